@@ -1,0 +1,44 @@
+//! The `gyrocomp` offline command-line driver: argument types and one module per subcommand.
+//! This is an edge of the library: it reads files, calls the pure numerics and prints results.
+
+pub mod allan;
+pub mod cc;
+pub mod denoise;
+pub mod input;
+
+use clap::{Parser, Subcommand};
+
+/// Error type of the CLI: any error, with its chain of causes printed by `main`.
+pub type CliError = Box<dyn std::error::Error + Send + Sync + 'static>;
+
+/// gyrocomp: MEMS gyroscope drift modelling and compensation (offline tools).
+#[derive(Debug, Parser)]
+#[command(name = "gyrocomp", version, about, long_about = None)]
+pub struct Cli {
+    /// Log level filter for messages on stderr (error, warn, info, debug, trace).
+    #[arg(long, global = true, default_value = "info", env = "GYROCOMP_LOG")]
+    pub log: String,
+    /// The command to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands of `gyrocomp`.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Wavelet-denoise one column (db4, universal soft threshold), batch or causal.
+    Denoise(denoise::DenoiseArgs),
+    /// C-C method: delay τ, delay window τw and embedding dimension m of a column.
+    Cc(cc::CcArgs),
+    /// Overlapping Allan deviation of a rate column and the IEEE Std 952 noise-term fit.
+    Allan(allan::AllanArgs),
+}
+
+/// Runs the parsed command line.
+pub fn run(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Command::Denoise(args) => denoise::run(&args),
+        Command::Cc(args) => cc::run(&args),
+        Command::Allan(args) => allan::run(&args),
+    }
+}

@@ -1,0 +1,1 @@
+//! Overlapping Allan deviation (to be written).

@@ -1,0 +1,1 @@
+//! IEEE Std 952 noise-term fit (to be written).

@@ -1,0 +1,9 @@
+//! File I/O at the edge of the library: streaming CSV reading and CSV writing, following the CSV
+//! conventions of design.md (header line, time column `t_s`/`t`/`time` in seconds, rate columns in
+//! deg/s, optional `temp_c`). Numerics never see a file: they receive slices.
+
+pub mod csv_read;
+pub mod csv_write;
+
+pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table};
+pub use csv_write::CsvColumnsWriter;

@@ -1,0 +1,21 @@
+//! gyrocomp — modelling and compensation of MEMS gyroscope random drift.
+//!
+//! The method follows Sensors 2017, 17, 2335 ("MEMS gyroscope random drift modelling with wavelet
+//! denoising, phase-space reconstruction and CPSO-LSSVM"): db4 wavelet denoising, phase-space
+//! reconstruction (PSR, delay τ and dimension m chosen by the C-C method), then an LSSVM regression.
+//!
+//! Module map (pure numerics never touch files, threads or IPC):
+//! - [`wavelet`]: Daubechies filters, PyWavelets-compatible `wavedec`/`waverec`, universal soft
+//!   threshold, batch denoising.
+//! - [`stream`]: per-sample building blocks: ring buffer, causal wavelet denoiser, PSR embedding.
+//! - [`model`]: the [-1, 1] scaler (Eq. 21) and the C-C method (Eq. 18–20).
+//! - [`diag`]: Allan deviation and the IEEE Std 952 noise-term fit.
+//! - [`io`]: CSV reading and writing (the edge where files live).
+//! - [`cli`]: the `gyrocomp` command-line driver.
+
+pub mod cli;
+pub mod diag;
+pub mod io;
+pub mod model;
+pub mod stream;
+pub mod wavelet;

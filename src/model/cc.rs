@@ -1,0 +1,1 @@
+//! C-C method (to be written).

@@ -1,0 +1,5 @@
+//! Models and the numerics around them: the [-1, 1] scaler (paper Eq. 21) and the C-C method
+//! for choosing the PSR delay and dimension (paper Eq. 18–20, Kim, Eykholt & Salas 1999).
+
+pub mod cc;
+pub mod scaler;

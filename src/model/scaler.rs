@@ -1,0 +1,1 @@
+//! Scaler (to be written).

@@ -1,0 +1,1 @@
+//! Streaming building blocks (to be written).

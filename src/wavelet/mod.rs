@@ -1,0 +1,1 @@
+//! Wavelets (to be written).
