@@ -1,13 +1,20 @@
 //! Streaming CSV reader for gyro recordings.
 //!
-//! A [`SampleReader`] walks the file one record at a time through a reused buffer, so a
+//! A [`SampleReader`] walks the file one line at a time through reused buffers, so a
 //! 1,000,000-row file is never held in memory as text: only the selected columns end up in memory,
 //! once, as `f64`. Every problem is reported as a [`CsvError`] that names the file, the line and
 //! the field.
+//!
+//! Accepted: a header line, comma-separated fields, LF or CRLF line ends, a UTF-8 byte-order mark,
+//! blank lines (skipped, but counted), spaces around fields, and fields in double quotes (with `""`
+//! for a quote). A quoted field may not span lines: recordings are numeric, and a line count that
+//! is always right matters more here. (The `csv` crate was tried first; its record positions are
+//! off by one after blank lines and on CRLF files, so error messages named the wrong line.)
 
 use std::fmt;
 use std::fs::File;
-use std::io::Read;
+use std::io::{BufRead, BufReader, Read};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// Accepted names of the time column, in order of preference (design.md "CSV conventions").
@@ -142,8 +149,10 @@ pub struct Row<'a> {
 /// Streaming reader of the selected columns of a gyro CSV file.
 pub struct SampleReader<R: Read> {
     path: PathBuf,
-    reader: csv::Reader<R>,
-    record: csv::ByteRecord,
+    reader: BufReader<R>,
+    line_buf: Vec<u8>,
+    line_no: u64,
+    fields: Fields,
     names: Vec<String>,
     time_name: String,
     time_idx: usize,
@@ -177,21 +186,32 @@ impl<R: Read> SampleReader<R> {
         options: ReadOptions,
     ) -> Result<Self, CsvError> {
         let path = label.to_path_buf();
-        let mut reader = csv::ReaderBuilder::new()
-            .has_headers(true)
-            .flexible(true)
-            .trim(csv::Trim::All)
-            .buffer_capacity(1 << 16)
-            .from_reader(input);
-        let header_err = |kind| CsvError { path: path.clone(), line: Some(1), field: None, kind };
-        let headers = reader
-            .headers()
-            .map_err(|e| header_err(malformed_or_io(e)))?
-            .clone();
-        if headers.is_empty() || (headers.len() == 1 && headers[0].is_empty()) {
-            return Err(CsvError { path, line: None, field: None, kind: CsvErrorKind::Empty });
+        let mut reader = BufReader::with_capacity(1 << 16, input);
+        let mut line_buf = Vec::with_capacity(256);
+        let mut line_no = 0;
+        let mut fields = Fields::default();
+        let io_err = |path: &Path, line, e| CsvError { path: path.to_path_buf(), line, field: None, kind: CsvErrorKind::Io(e) };
+        // The header is the first non-blank line.
+        loop {
+            line_buf.clear();
+            let read = reader.read_until(b'\n', &mut line_buf).map_err(|e| io_err(&path, None, e))?;
+            if read == 0 {
+                return Err(CsvError { path, line: None, field: None, kind: CsvErrorKind::Empty });
+            }
+            line_no += 1;
+            if line_no == 1 && line_buf.starts_with(b"\xEF\xBB\xBF") {
+                line_buf.drain(..3);
+            }
+            if !is_blank(&line_buf) {
+                break;
+            }
         }
-        let names: Vec<String> = headers.iter().map(str::to_owned).collect();
+        let header_line = line_no;
+        let header_err = |kind| CsvError { path: path.clone(), line: Some(header_line), field: None, kind };
+        fields.split(&line_buf).map_err(|msg| header_err(CsvErrorKind::Malformed(msg.to_owned())))?;
+        let names: Vec<String> = (0..fields.len())
+            .map(|i| String::from_utf8_lossy(fields.get(i).unwrap_or_default()).into_owned())
+            .collect();
         let find = |wanted: &str| names.iter().position(|n| n == wanted);
         let (time_idx, time_name) = TIME_COLUMN_NAMES
             .iter()
@@ -217,7 +237,9 @@ impl<R: Read> SampleReader<R> {
         Ok(Self {
             path,
             reader,
-            record: csv::ByteRecord::new(),
+            line_buf,
+            line_no,
+            fields,
             values: vec![0.0; value_idx.len()],
             names,
             time_name,
@@ -247,16 +269,29 @@ impl<R: Read> SampleReader<R> {
 
     /// Reads the next row; `Ok(None)` at the end of the file. Blank lines are skipped.
     pub fn next_row(&mut self) -> Result<Option<Row<'_>>, CsvError> {
-        let more = self.reader.read_byte_record(&mut self.record).map_err(|e| CsvError {
-            path: self.path.clone(),
-            line: e.position().map(|p| p.line()),
-            field: None,
-            kind: malformed_or_io(e),
-        })?;
-        if !more {
-            return Ok(None);
+        loop {
+            self.line_buf.clear();
+            let read = self.reader.read_until(b'\n', &mut self.line_buf).map_err(|e| CsvError {
+                path: self.path.clone(),
+                line: Some(self.line_no + 1),
+                field: None,
+                kind: CsvErrorKind::Io(e),
+            })?;
+            if read == 0 {
+                return Ok(None);
+            }
+            self.line_no += 1;
+            if !is_blank(&self.line_buf) {
+                break;
+            }
         }
-        let line = self.record.position().map_or(0, |p| p.line());
+        let line = self.line_no;
+        self.fields.split(&self.line_buf).map_err(|msg| CsvError {
+            path: self.path.clone(),
+            line: Some(line),
+            field: None,
+            kind: CsvErrorKind::Malformed(msg.to_owned()),
+        })?;
         let t_s = self.field(line, self.time_idx, false)?;
         if self.options.require_increasing_time
             && let Some(previous) = self.previous_t
@@ -273,9 +308,7 @@ impl<R: Read> SampleReader<R> {
             self.values[k] = self.field(line, self.value_idx[k], self.options.allow_non_finite)?;
         }
         let temp_c = match self.temp_idx {
-            Some(i) if self.record.get(i).is_some_and(|f| !f.is_empty()) => {
-                Some(self.field(line, i, true)?)
-            }
+            Some(i) if self.fields.get(i).is_some_and(|f| !f.is_empty()) => Some(self.field(line, i, true)?),
             _ => None,
         };
         self.rows += 1;
@@ -283,14 +316,14 @@ impl<R: Read> SampleReader<R> {
     }
 
     fn field(&self, line: u64, idx: usize, allow_non_finite: bool) -> Result<f64, CsvError> {
-        let Some(bytes) = self.record.get(idx) else {
-            return Err(self.error(line, idx, CsvErrorKind::MissingField { found: self.record.len() }));
+        let Some(bytes) = self.fields.get(idx) else {
+            return Err(self.error(line, idx, CsvErrorKind::MissingField { found: self.fields.len() }));
         };
-        let text = String::from_utf8_lossy(bytes);
-        match text.parse::<f64>() {
-            Ok(v) if v.is_finite() || allow_non_finite => Ok(v),
-            Ok(_) => Err(self.error(line, idx, CsvErrorKind::NonFinite(text.into_owned()))),
-            Err(_) => Err(self.error(line, idx, CsvErrorKind::BadNumber(text.into_owned()))),
+        let parsed = std::str::from_utf8(bytes).ok().and_then(|t| t.parse::<f64>().ok());
+        match parsed {
+            Some(v) if v.is_finite() || allow_non_finite => Ok(v),
+            Some(_) => Err(self.error(line, idx, CsvErrorKind::NonFinite(lossy(bytes)))),
+            None => Err(self.error(line, idx, CsvErrorKind::BadNumber(lossy(bytes)))),
         }
     }
 
@@ -300,11 +333,82 @@ impl<R: Read> SampleReader<R> {
     }
 }
 
-fn malformed_or_io(e: csv::Error) -> CsvErrorKind {
-    let msg = e.to_string();
-    match e.into_kind() {
-        csv::ErrorKind::Io(io) => CsvErrorKind::Io(io),
-        _ => CsvErrorKind::Malformed(msg),
+fn lossy(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn is_blank(line: &[u8]) -> bool {
+    line.iter().all(|b| b.is_ascii_whitespace())
+}
+
+/// The fields of one line: unquoted, trimmed bytes packed in one buffer, with their ranges.
+#[derive(Debug, Default)]
+struct Fields {
+    bytes: Vec<u8>,
+    ranges: Vec<Range<usize>>,
+}
+
+impl Fields {
+    fn len(&self) -> usize {
+        self.ranges.len()
+    }
+
+    fn get(&self, i: usize) -> Option<&[u8]> {
+        self.ranges.get(i).map(|r| &self.bytes[r.clone()])
+    }
+
+    /// Splits one line (its `\n` or `\r\n` included or not) into fields.
+    fn split(&mut self, line: &[u8]) -> Result<(), &'static str> {
+        let line = line.strip_suffix(b"\n").unwrap_or(line);
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        self.bytes.clear();
+        self.ranges.clear();
+        let mut i = 0;
+        loop {
+            while i < line.len() && (line[i] == b' ' || line[i] == b'\t') {
+                i += 1;
+            }
+            let start = self.bytes.len();
+            if i < line.len() && line[i] == b'"' {
+                i += 1;
+                loop {
+                    match line.get(i) {
+                        None => return Err("a quoted field is not closed on its line"),
+                        Some(b'"') if line.get(i + 1) == Some(&b'"') => {
+                            self.bytes.push(b'"');
+                            i += 2;
+                        }
+                        Some(b'"') => {
+                            i += 1;
+                            break;
+                        }
+                        Some(&b) => {
+                            self.bytes.push(b);
+                            i += 1;
+                        }
+                    }
+                }
+                while i < line.len() && line[i] != b',' {
+                    if !line[i].is_ascii_whitespace() {
+                        return Err("text after a closing quote");
+                    }
+                    i += 1;
+                }
+            } else {
+                while i < line.len() && line[i] != b',' {
+                    self.bytes.push(line[i]);
+                    i += 1;
+                }
+                while self.bytes.len() > start && self.bytes.last().is_some_and(u8::is_ascii_whitespace) {
+                    self.bytes.pop();
+                }
+            }
+            self.ranges.push(start..self.bytes.len());
+            if i >= line.len() {
+                return Ok(());
+            }
+            i += 1; // the comma
+        }
     }
 }
 
