@@ -101,8 +101,8 @@ struct SweepRow {
 pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
     let series = load_series(&args.input, &args.column, None)?;
     let config = DenoiseConfig { wavelet: Wavelet::from_name(&args.wavelet)?, level: args.level };
-    if config.level == 0 {
-        return Err("--level must be at least 1".into());
+    if !(1..=32).contains(&config.level) {
+        return Err(format!("--level {} is outside 1..=32", config.level).into());
     }
     let x = &series.values;
     let started = Instant::now();
@@ -110,12 +110,17 @@ pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
     if args.sweep {
         return sweep(x, &batch, &config, args.json);
     }
-    let (denoised, window, lag) = match args.mode {
-        Mode::Batch => (batch.clone(), None, None),
+    let causal = match args.mode {
+        Mode::Batch => None,
         Mode::Causal => {
             let causal = CausalConfig { denoise: config.clone(), window: args.window, lag: args.lag };
-            (denoise_causal(x, &causal)?, Some(args.window), Some(args.lag))
+            Some(denoise_causal(x, &causal)?)
         }
+    };
+    let denoised = causal.as_deref().unwrap_or(&batch);
+    let (window, lag) = match args.mode {
+        Mode::Batch => (None, None),
+        Mode::Causal => (Some(args.window), Some(args.lag)),
     };
     let seconds = started.elapsed().as_secs_f64();
     let summary = Summary {
@@ -127,15 +132,15 @@ pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
         lag,
         sigma: report.sigma,
         threshold: report.threshold,
-        rmse_vs_batch: window.map(|_| rmse(&denoised, &batch)),
+        rmse_vs_batch: window.map(|_| rmse(denoised, &batch)),
         rmse_vs_batch_steady: window.map(|w| rmse(&denoised[w.min(x.len())..], &batch[w.min(x.len())..])),
         std_raw: std_dev(x),
-        std_denoised: std_dev(&denoised),
+        std_denoised: std_dev(denoised),
         seconds,
     };
     if let Some(path) = &args.output {
         CsvColumnsWriter::create(path)
-            .and_then(|w| w.write(&["t_s", "raw", "denoised"], &[&series.t_s, x, &denoised]))
+            .and_then(|w| w.write(&["t_s", "raw", "denoised"], &[&series.t_s, x, denoised]))
             .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
     }
     if args.json {

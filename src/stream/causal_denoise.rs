@@ -83,7 +83,6 @@ pub struct CausalDenoiser {
     config: CausalConfig,
     ring: RingBuffer,
     denoiser: Denoiser,
-    out: Vec<f64>,
 }
 
 impl CausalDenoiser {
@@ -93,7 +92,6 @@ impl CausalDenoiser {
         Ok(Self {
             ring: RingBuffer::new(config.window),
             denoiser: Denoiser::new(config.denoise.clone(), config.window),
-            out: vec![0.0; config.window],
             config,
         })
     }
@@ -133,9 +131,7 @@ impl CausalDenoiser {
         if window.len() < self.config.min_window() {
             return window[position];
         }
-        let n = window.len();
-        self.denoiser.denoise_into(window, &mut self.out[..n]);
-        self.out[position]
+        self.denoiser.denoise_at(window, position).0
     }
 }
 

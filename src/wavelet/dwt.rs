@@ -40,53 +40,62 @@ fn reflect(i: isize, n: usize) -> usize {
     if r < n { r } else { 2 * n - 1 - r }
 }
 
+/// Forward coefficients `(cA[o], cD[o])` of one output position `o` (the body of [`dwt_into`]).
+#[inline]
+pub(crate) fn dwt_point(x: &[f64], lo: &[f64], hi: &[f64], o: usize) -> (f64, f64) {
+    let (n, f) = (x.len(), lo.len());
+    let i = 2 * o + 1;
+    let (mut a, mut d) = (0.0, 0.0);
+    if i >= f - 1 && i < n {
+        // Interior: every tap lands inside the signal.
+        let window = &x[i + 1 - f..=i];
+        for j in 0..f {
+            let v = window[f - 1 - j];
+            a += lo[j] * v;
+            d += hi[j] * v;
+        }
+    } else {
+        for j in 0..f {
+            let v = x[reflect(i as isize - j as isize, n)];
+            a += lo[j] * v;
+            d += hi[j] * v;
+        }
+    }
+    (a, d)
+}
+
 /// One forward step: fills `ca` (low-pass) and `cd` (high-pass), each `dwt_len(x.len(), F)` long.
 pub fn dwt_into(x: &[f64], wavelet: &Wavelet, ca: &mut [f64], cd: &mut [f64]) {
     let (lo, hi) = (wavelet.dec_lo(), wavelet.dec_hi());
-    let (n, f) = (x.len(), lo.len());
-    let len = dwt_len(n, f);
-    assert!(n > 0, "dwt of an empty signal");
+    let len = dwt_len(x.len(), lo.len());
+    assert!(!x.is_empty(), "dwt of an empty signal");
     assert!(ca.len() == len && cd.len() == len, "coefficient buffers must be dwt_len long");
     for o in 0..len {
-        let i = 2 * o + 1;
-        let (mut a, mut d) = (0.0, 0.0);
-        if i >= f - 1 && i < n {
-            // Interior: every tap lands inside the signal.
-            let window = &x[i + 1 - f..=i];
-            for j in 0..f {
-                let v = window[f - 1 - j];
-                a += lo[j] * v;
-                d += hi[j] * v;
-            }
-        } else {
-            for j in 0..f {
-                let v = x[reflect(i as isize - j as isize, n)];
-                a += lo[j] * v;
-                d += hi[j] * v;
-            }
-        }
-        ca[o] = a;
-        cd[o] = d;
+        (ca[o], cd[o]) = dwt_point(x, lo, hi, o);
     }
+}
+
+/// One reconstructed sample `y[out]` of the inverse step (the body of [`idwt_into`]); `ca` and
+/// `cd` need only be valid at indices `out/2 … out/2 + F/2 − 1`.
+#[inline]
+pub(crate) fn idwt_point(ca: &[f64], cd: &[f64], lo: &[f64], hi: &[f64], out: usize) -> f64 {
+    let half = lo.len() / 2;
+    let (k, parity) = (out / 2, out % 2);
+    let i = k + half - 1;
+    let mut sum = 0.0;
+    for j in 0..half {
+        sum += lo[2 * j + parity] * ca[i - j] + hi[2 * j + parity] * cd[i - j];
+    }
+    sum
 }
 
 /// One inverse step: rebuilds `out` (`idwt_len(ca.len(), F)` long) from equal-length `ca`, `cd`.
 pub fn idwt_into(ca: &[f64], cd: &[f64], wavelet: &Wavelet, out: &mut [f64]) {
     let (lo, hi) = (wavelet.rec_lo(), wavelet.rec_hi());
-    let f = lo.len();
-    let half = f / 2;
     assert_eq!(ca.len(), cd.len(), "approximation and detail must have equal length");
-    assert_eq!(out.len(), idwt_len(ca.len(), f), "output buffer must be idwt_len long");
-    for i in half - 1..ca.len() {
-        let k = i + 1 - half;
-        let (mut even, mut odd) = (0.0, 0.0);
-        for j in 0..half {
-            let (a, d) = (ca[i - j], cd[i - j]);
-            even += lo[2 * j] * a + hi[2 * j] * d;
-            odd += lo[2 * j + 1] * a + hi[2 * j + 1] * d;
-        }
-        out[2 * k] = even;
-        out[2 * k + 1] = odd;
+    assert_eq!(out.len(), idwt_len(ca.len(), lo.len()), "output buffer must be idwt_len long");
+    for (o, y) in out.iter_mut().enumerate() {
+        *y = idwt_point(ca, cd, lo, hi, o);
     }
 }
 
