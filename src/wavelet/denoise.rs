@@ -211,8 +211,8 @@ impl Denoiser {
             let approx: &[f64] = if k == level { &self.forward[level][..lens[k]] } else { &upper[0][..lens[k]] };
             let out = &mut lower[k - 1];
             let end = if k == 1 { position + 1 } else { lens[k - 1] };
-            for o in need[k - 1]..end {
-                out[o] = idwt_point(approx, details, rec_lo, rec_hi, o);
+            for (o, y) in out.iter_mut().enumerate().take(end).skip(need[k - 1]) {
+                *y = idwt_point(approx, details, rec_lo, rec_hi, o);
             }
         }
         (self.rebuilt[0][position], DenoiseReport { sigma, threshold })
@@ -281,10 +281,10 @@ mod tests {
                 let x = noisy(n);
                 let mut out = vec![0.0; n];
                 let report = full.denoise_into(&x, &mut out);
-                for p in 0..n {
+                for (p, want) in out.iter().enumerate() {
                     let (v, r) = single.denoise_at(&x, p);
                     assert_eq!(r, report);
-                    assert_eq!(v.to_bits(), out[p].to_bits(), "{} n={n} position {p}", config.wavelet.name());
+                    assert_eq!(v.to_bits(), want.to_bits(), "{} n={n} position {p}", config.wavelet.name());
                 }
             }
         }
