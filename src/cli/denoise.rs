@@ -9,15 +9,10 @@ use serde::Serialize;
 use tracing::info;
 
 use super::CliError;
-use super::input::load_series;
+use super::input::{load_config, load_series};
 use crate::io::CsvColumnsWriter;
 use crate::stream::{CausalConfig, denoise_causal};
-use crate::wavelet::{DenoiseConfig, Wavelet, denoise_batch};
-
-/// Default causal window, samples (chosen from the trade-off table in the README).
-pub const DEFAULT_WINDOW: usize = 256;
-/// Default causal lag, samples (chosen from the trade-off table in the README).
-pub const DEFAULT_LAG: usize = 5;
+use crate::wavelet::{DenoiseConfig, denoise_batch};
 
 /// Batch or causal denoising.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
@@ -40,18 +35,22 @@ pub struct DenoiseArgs {
     /// Batch (offline, the paper) or causal (streaming).
     #[arg(long, value_enum, default_value_t = Mode::Batch)]
     pub mode: Mode,
-    /// Mother wavelet (db1 … db10).
-    #[arg(long, default_value = "db4")]
-    pub wavelet: String,
-    /// Decomposition levels.
-    #[arg(long, default_value_t = 3)]
-    pub level: usize,
-    /// Causal mode: samples in the sliding window.
-    #[arg(long, default_value_t = DEFAULT_WINDOW)]
-    pub window: usize,
-    /// Causal mode: the estimate of x[t−lag] is emitted at time t.
-    #[arg(long, default_value_t = DEFAULT_LAG)]
-    pub lag: usize,
+    /// Configuration file; its `[denoise]` keys are the defaults of the four options below
+    /// (which take configs/default.toml's values when neither is given).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Mother wavelet (db1 … db10) [default: db4].
+    #[arg(long)]
+    pub wavelet: Option<String>,
+    /// Decomposition levels [default: 3].
+    #[arg(long)]
+    pub level: Option<usize>,
+    /// Causal mode: samples in the sliding window [default: 256].
+    #[arg(long)]
+    pub window: Option<usize>,
+    /// Causal mode: the estimate of x[t−lag] is emitted at time t [default: 5].
+    #[arg(long)]
+    pub lag: Option<usize>,
     /// Output CSV `t_s,raw,denoised` (`-` for standard output).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -99,11 +98,14 @@ struct SweepRow {
 
 /// Runs `gyrocomp denoise`.
 pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
+    let mut settings = load_config(args.config.as_deref())?;
+    let section = &mut settings.denoise;
+    section.wavelet = args.wavelet.clone().unwrap_or(std::mem::take(&mut section.wavelet));
+    section.level = args.level.unwrap_or(section.level);
+    section.window = args.window.unwrap_or(section.window);
+    section.lag = args.lag.unwrap_or(section.lag);
+    let config = settings.denoise()?;
     let series = load_series(&args.input, &args.column, None)?;
-    let config = DenoiseConfig { wavelet: Wavelet::from_name(&args.wavelet)?, level: args.level };
-    if !(1..=32).contains(&config.level) {
-        return Err(format!("--level {} is outside 1..=32", config.level).into());
-    }
     let x = &series.values;
     let started = Instant::now();
     let (batch, report) = denoise_batch(x, &config);
@@ -112,15 +114,12 @@ pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
     }
     let causal = match args.mode {
         Mode::Batch => None,
-        Mode::Causal => {
-            let causal = CausalConfig { denoise: config.clone(), window: args.window, lag: args.lag };
-            Some(denoise_causal(x, &causal)?)
-        }
+        Mode::Causal => Some(denoise_causal(x, &settings.causal_denoise()?)?),
     };
     let denoised = causal.as_deref().unwrap_or(&batch);
     let (window, lag) = match args.mode {
         Mode::Batch => (None, None),
-        Mode::Causal => (Some(args.window), Some(args.lag)),
+        Mode::Causal => (Some(settings.denoise.window), Some(settings.denoise.lag)),
     };
     let seconds = started.elapsed().as_secs_f64();
     let summary = Summary {
@@ -180,9 +179,18 @@ fn sweep(x: &[f64], batch: &[f64], config: &DenoiseConfig, json: bool) -> Result
             rows.push(SweepRow { window, lag, rmse_vs_batch_steady: steady, us_per_sample });
         }
     }
+    let raw = rmse(x, batch);
+    let shift = shift_variance(x, batch, config);
     if json {
-        println!("{}", serde_json::to_string(&rows)?);
+        println!("{}", serde_json::json!({ "rmse_raw_vs_batch": raw, "rmse_batch_shifted_vs_batch": shift, "rows": rows }));
     } else {
+        println!("RMSE of the raw series against batch (no denoising at all): {raw:.3e} deg/s");
+        let mean = shift.iter().sum::<f64>() / shift.len().max(1) as f64;
+        let max = shift.iter().copied().fold(0.0, f64::max);
+        println!(
+            "RMSE of batch started 1…{} samples later against batch (shift variance of the decimated DWT): mean {mean:.3e}, max {max:.3e} deg/s\n",
+            shift.len()
+        );
         println!("| window | lag | RMSE causal vs batch (deg/s) | µs/sample |");
         println!("|---:|---:|---:|---:|");
         for r in &rows {
@@ -190,6 +198,21 @@ fn sweep(x: &[f64], batch: &[f64], config: &DenoiseConfig, json: bool) -> Result
         }
     }
     Ok(())
+}
+
+/// How much the batch result itself moves when the series starts `k` samples later, for
+/// k = 1 … 2^level − 1 (the decimated DWT is not shift-invariant); RMSE over the samples away from
+/// either end. This is the floor any causal (sliding-window) denoiser can reach against batch.
+fn shift_variance(x: &[f64], batch: &[f64], config: &DenoiseConfig) -> Vec<f64> {
+    let margin = 1000.min(x.len() / 4);
+    (1..1usize << config.level)
+        .filter(|&k| x.len() > k + 2 * margin)
+        .map(|k| {
+            let (shifted, _) = denoise_batch(&x[k..], config);
+            let end = shifted.len() - margin;
+            rmse(&shifted[margin..end], &batch[k + margin..k + end])
+        })
+        .collect()
 }
 
 fn rmse(a: &[f64], b: &[f64]) -> f64 {

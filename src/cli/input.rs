@@ -2,6 +2,7 @@
 
 use std::path::Path;
 
+use crate::config::Config;
 use crate::io::{ReadOptions, Table, read_table};
 
 use super::CliError;
@@ -31,4 +32,11 @@ pub fn load_series(path: &Path, column: &str, rate_override: Option<f64>) -> Res
         return Err(format!("{}: sample rate {rate_hz} Hz is not positive and finite", path.display()).into());
     }
     Ok(Series { t_s, values, rate_hz })
+}
+
+/// Reads and validates the configuration file at `path`, or returns the defaults without one.
+pub fn load_config(path: Option<&Path>) -> Result<Config, CliError> {
+    let Some(path) = path else { return Ok(Config::default()) };
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    Ok(Config::from_toml(&text, &path.display().to_string())?)
 }
