@@ -44,8 +44,8 @@ pub struct AllanArgs {
     /// Sample rate in Hz (default: from the time column, (rows − 1)/(t_last − t_first)).
     #[arg(long)]
     pub rate: Option<f64>,
-    /// Averaging times: octave (m = 1, 2, 4, … samples) or all (every m; O(N²): minutes for
-    /// 10⁵ samples, hours for 10⁶, bound it with --max-m).
+    /// Averaging times: octave (m = 1, 2, 4, … samples) or all (every m; O(N²): seconds for
+    /// 10⁵ samples, about ten minutes for 10⁶; bound it with --max-m).
     #[arg(long, value_enum, default_value_t = TauGrid::Octave)]
     pub taus: TauGrid,
     /// Largest averaging factor m (samples) to evaluate.
