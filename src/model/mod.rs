@@ -3,3 +3,6 @@
 
 pub mod cc;
 pub mod scaler;
+pub mod traits;
+
+pub use traits::{Fit, FitError, Predict, predict_from};
