@@ -10,6 +10,7 @@
 //! - [`stream`]: per-sample building blocks: ring buffer, causal wavelet denoiser, PSR embedding.
 //! - [`model`]: the [-1, 1] scaler (Eq. 21) and the C-C method (Eq. 18–20).
 //! - [`diag`]: Allan deviation and the IEEE Std 952 noise-term fit.
+//! - [`eval`]: evaluation protocols (the paper's, beside honest baselines).
 //! - [`config`]: the configuration file (`configs/default.toml`).
 //! - [`io`]: CSV reading and writing (the edge where files live).
 //! - [`cli`]: the `gyrocomp` command-line driver.
@@ -17,6 +18,7 @@
 pub mod cli;
 pub mod config;
 pub mod diag;
+pub mod eval;
 pub mod io;
 pub mod model;
 pub mod stream;

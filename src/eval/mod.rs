@@ -1,0 +1,6 @@
+//! Evaluation protocols of design.md ("Evaluation protocols"): the paper's protocol, with every
+//! model scored beside the honest baselines on the same split.
+
+pub mod paper;
+
+pub use paper::{PaperProtocol, PaperScores, Prepared};
