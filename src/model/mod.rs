@@ -2,6 +2,7 @@
 //! for choosing the PSR delay and dimension (paper Eq. 18–20, Kim, Eykholt & Salas 1999).
 
 pub mod baselines;
+pub mod bp_ann;
 pub mod cc;
 pub mod metrics;
 pub mod scaler;
