@@ -178,7 +178,9 @@ fn real_data_sanity() {
     let scaler = MinMaxScaler::fit(&raw[..split]).unwrap();
     let x: Vec<f64> = raw.iter().map(|&v| scaler.transform(v)).collect();
     let (train, test) = (&x[..split], &x[split..]);
-    let score = |pred: Vec<f64>| Metrics::new(&pred, test).unwrap();
+    let score = |pred: Vec<f64>| {
+        (Metrics::new(&pred, test).unwrap(), Metrics::in_original_units(&pred, test, &scaler).unwrap())
+    };
     let ar = Ar::default().fit(train).unwrap();
     let rows = [
         ("persistence", score(predict_from(&Persistence.fit(train).unwrap(), &x, split))),
@@ -188,10 +190,21 @@ fn real_data_sanity() {
         ("linear-psr", score(predict_from(&LinearPsr::default().fit(train).unwrap(), &x, split))),
     ];
     eprintln!("AR order by AIC: {}", ar.order());
-    for (name, m) in &rows {
-        eprintln!("{name:12} RMSE {:.4} (norm) {:.5} deg/s  MAE {:.4}", m.rmse, scaler.inverse_scale(m.rmse), m.mae);
+    // Quantised data: some test targets sit exactly on the scaler's centre (0 after Eq. 21) or
+    // on 0 deg/s, which makes Eq. 24 infinite in either unit.
+    let zeros = (test.iter().filter(|&&v| v == 0.0).count(), raw[split..].iter().filter(|&&v| v == 0.0).count());
+    eprintln!("test targets equal to 0: {} normalised, {} in deg/s", zeros.0, zeros.1);
+    for (name, (m, deg)) in &rows {
+        eprintln!(
+            "{name:12} RMSE {:.4} (norm) {:.5} deg/s  MAE {:.4}  ARE {:.2} (norm) {:.2} (deg/s)",
+            m.rmse,
+            scaler.inverse_scale(m.rmse),
+            m.mae,
+            m.are,
+            deg.are
+        );
     }
-    let rmse = |i: usize| rows[i].1.rmse;
+    let rmse = |i: usize| rows[i].1.0.rmse;
     // White-noise-dominated data: persistence ≈ √2 × the mean's error; AR cannot do much worse
     // than the mean it contains.
     assert!(rmse(0) > 1.2 * rmse(1));

@@ -140,10 +140,12 @@ fn real_data_sanity() {
     let mean = x[..split].iter().sum::<f64>() / split as f64;
     let mean_rmse = Metrics::new(&vec![mean; 1000], &x[split..]).unwrap().rmse;
     eprintln!(
-        "bp-ann RMSE {:.4} (norm) {:.5} deg/s  MAE {:.4}  [{:?}, {:.2} s]",
+        "bp-ann RMSE {:.4} (norm) {:.5} deg/s  MAE {:.4}  ARE {:.2} (norm) {:.2} (deg/s)  [{:?}, {:.2} s]",
         s.rmse,
         scaler.inverse_scale(s.rmse),
         s.mae,
+        s.are,
+        Metrics::in_original_units(&pred, &x[split..], &scaler).unwrap().are,
         m.report(),
         t0.elapsed().as_secs_f64()
     );
