@@ -1,7 +1,10 @@
 //! Models and the numerics around them: the [-1, 1] scaler (paper Eq. 21) and the C-C method
 //! for choosing the PSR delay and dimension (paper Eq. 18–20, Kim, Eykholt & Salas 1999).
 
+pub mod baselines;
+pub mod bp_ann;
 pub mod cc;
+pub mod metrics;
 pub mod scaler;
 pub mod traits;
 

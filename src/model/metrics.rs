@@ -1,0 +1,143 @@
+//! Prediction error indexes of paper §3 Step 5: MAE (Eq. 22), RMSE (Eq. 23), ARE (Eq. 24), and
+//! the standard deviation used for compensation (paper §4.3, Table 2).
+//!
+//! ARE: the paper writes `(1/n) Σ |ŷ_i − y_i| / y_i`. Dividing by a signed `y_i` lets terms of
+//! opposite sign cancel, so [`are`] divides by `|y_i|`. Even so ARE is ill-posed for a drift
+//! series: after Eq. 21 the series sits around 0 in [−1, 1], so samples near zero dominate the
+//! mean (one `y_i = 0` makes it infinite), and the value changes with the normalisation offset —
+//! ARE in normalised units and in deg/s differ, unlike MAE/RMSE which only scale. Report it for
+//! comparison with the paper, never to rank models.
+//!
+//! Unit conversion: MAE and RMSE scale linearly from normalised units to the original units by
+//! the scaler's half-range ([`MinMaxScaler::inverse_scale`]); ARE does not, so
+//! [`Metrics::in_original_units`] recomputes everything from inverse-transformed values.
+
+use super::scaler::MinMaxScaler;
+
+/// MAE, RMSE and ARE of one set of predictions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Metrics {
+    /// Number of predictions n.
+    pub n: usize,
+    /// Mean absolute error, Eq. 22.
+    pub mae: f64,
+    /// Root mean square error, Eq. 23.
+    pub rmse: f64,
+    /// Average relative error, Eq. 24 with `|y_i|` (a fraction, not percent; see module docs).
+    pub are: f64,
+}
+
+impl Metrics {
+    /// All three indexes of `pred` against `actual`; `None` when the lengths differ or are 0.
+    pub fn new(pred: &[f64], actual: &[f64]) -> Option<Self> {
+        Self::from_pairs(pred.len(), actual.len(), pred.iter().copied().zip(actual.iter().copied()))
+    }
+
+    /// The indexes in original units (e.g. deg/s) of normalised predictions and targets: both
+    /// are mapped back with [`MinMaxScaler::inverse`] first. `None` as for [`Metrics::new`].
+    pub fn in_original_units(pred: &[f64], actual: &[f64], scaler: &MinMaxScaler) -> Option<Self> {
+        let pairs = pred.iter().zip(actual).map(|(&p, &a)| (scaler.inverse(p), scaler.inverse(a)));
+        Self::from_pairs(pred.len(), actual.len(), pairs)
+    }
+
+    fn from_pairs(np: usize, na: usize, pairs: impl Iterator<Item = (f64, f64)>) -> Option<Self> {
+        if np != na || np == 0 {
+            return None;
+        }
+        let (mut abs, mut sq, mut rel) = (0.0, 0.0, 0.0);
+        for (p, a) in pairs {
+            let e = (p - a).abs();
+            abs += e;
+            sq += e * e;
+            rel += e / a.abs();
+        }
+        let n = np as f64;
+        Some(Self { n: np, mae: abs / n, rmse: (sq / n).sqrt(), are: rel / n })
+    }
+}
+
+/// Mean absolute error, Eq. 22: `(1/n) Σ |ŷ_i − y_i|`. `None` when lengths differ or are 0.
+pub fn mae(pred: &[f64], actual: &[f64]) -> Option<f64> {
+    Metrics::new(pred, actual).map(|m| m.mae)
+}
+
+/// Root mean square error, Eq. 23: `√((1/n) Σ (ŷ_i − y_i)²)`. `None` when lengths differ or are 0.
+pub fn rmse(pred: &[f64], actual: &[f64]) -> Option<f64> {
+    Metrics::new(pred, actual).map(|m| m.rmse)
+}
+
+/// Average relative error, Eq. 24 with the denominator `|y_i|`: `(1/n) Σ |ŷ_i − y_i| / |y_i|`
+/// (a fraction; `+∞` if some `y_i = 0`; see the module docs). `None` when lengths differ or are 0.
+pub fn are(pred: &[f64], actual: &[f64]) -> Option<f64> {
+    Metrics::new(pred, actual).map(|m| m.are)
+}
+
+/// Sample standard deviation with the `n − 1` denominator (MATLAB's `std` default), as in
+/// paper Table 2 (drift before/after compensation). `None` for fewer than 2 values.
+pub fn std_dev(x: &[f64]) -> Option<f64> {
+    if x.len() < 2 {
+        return None;
+    }
+    let n = x.len() as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    let ss: f64 = x.iter().map(|v| (v - mean) * (v - mean)).sum();
+    Some((ss / (n - 1.0)).sqrt())
+}
+
+/// Converts an error (MAE, RMSE, a standard deviation) from normalised units to original units:
+/// multiplies by the scaler's half-range. Not valid for ARE.
+pub fn error_to_units(error: f64, scaler: &MinMaxScaler) -> f64 {
+    scaler.inverse_scale(error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hand_computed_values() {
+        let pred = [1.0, 2.0, 5.0, -1.0];
+        let actual = [2.0, 2.0, 3.0, -2.0];
+        // errors 1, 0, 2, 1
+        let m = Metrics::new(&pred, &actual).unwrap();
+        assert_eq!(m.n, 4);
+        assert_eq!(m.mae, 1.0);
+        assert!((m.rmse - (6.0f64 / 4.0).sqrt()).abs() < 1e-15);
+        // |e|/|y|: 1/2, 0, 2/3, 1/2 → 5/3 / 4
+        assert!((m.are - 5.0 / 12.0).abs() < 1e-15);
+        assert_eq!(mae(&pred, &actual), Some(1.0));
+        assert_eq!(rmse(&pred, &actual), Some(m.rmse));
+        assert_eq!(are(&pred, &actual), Some(m.are));
+        assert_eq!(are(&[1.0], &[0.0]), Some(f64::INFINITY));
+    }
+
+    #[test]
+    fn std_dev_uses_n_minus_one() {
+        // mean 5, squared deviations sum 32, n − 1 = 7
+        let x = [2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0];
+        assert!((std_dev(&x).unwrap() - (32.0f64 / 7.0).sqrt()).abs() < 1e-15);
+        assert_eq!(std_dev(&[1.0]), None);
+    }
+
+    #[test]
+    fn bad_lengths() {
+        assert_eq!(Metrics::new(&[], &[]), None);
+        assert_eq!(Metrics::new(&[1.0], &[1.0, 2.0]), None);
+        assert_eq!(mae(&[1.0, 2.0], &[1.0]), None);
+    }
+
+    #[test]
+    fn original_units() {
+        // [0, 4] ↦ [−1, 1]: half-range 2, centre 2.
+        let s = MinMaxScaler { min: 0.0, max: 4.0 };
+        let pred = [0.0, 0.5];
+        let actual = [0.5, 0.0];
+        let norm = Metrics::new(&pred, &actual).unwrap();
+        let deg = Metrics::in_original_units(&pred, &actual, &s).unwrap();
+        assert_eq!(deg.mae, error_to_units(norm.mae, &s));
+        assert_eq!(deg.rmse, error_to_units(norm.rmse, &s));
+        // Originals 2, 3 vs 3, 2: ARE = (1/3 + 1/2)/2, while normalised ARE is infinite.
+        assert!((deg.are - 5.0 / 12.0).abs() < 1e-15);
+        assert_eq!(norm.are, f64::INFINITY);
+    }
+}
