@@ -11,6 +11,7 @@ use tracing::info;
 use super::CliError;
 use super::input::{load_config, load_series};
 use crate::io::CsvColumnsWriter;
+use crate::model::metrics;
 use crate::stream::{CausalConfig, denoise_causal};
 use crate::wavelet::{DenoiseConfig, denoise_batch};
 
@@ -216,16 +217,9 @@ fn shift_variance(x: &[f64], batch: &[f64], config: &DenoiseConfig) -> Vec<f64> 
 }
 
 fn rmse(a: &[f64], b: &[f64]) -> f64 {
-    if a.is_empty() {
-        return 0.0;
-    }
-    (a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>() / a.len() as f64).sqrt()
+    metrics::rmse(a, b).unwrap_or(0.0)
 }
 
 fn std_dev(x: &[f64]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
-    (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / x.len() as f64).sqrt()
+    metrics::std_dev(x).unwrap_or(0.0)
 }

@@ -10,6 +10,7 @@ use std::fmt;
 
 use serde::Serialize;
 
+use crate::model::metrics::{Metrics, std_dev};
 use crate::model::scaler::MinMaxScaler;
 use crate::stream::Embedding;
 use crate::wavelet::{DenoiseConfig, denoise_batch};
@@ -117,13 +118,14 @@ pub struct PaperScores {
     /// RMSE of the normalised test predictions (Eq. 23).
     pub rmse_norm: f64,
     /// ARE (Eq. 24) with |y|: mean |ŷ − y| / |y| over normalised test targets. Unstable: the
-    /// normalised series crosses zero, where single terms explode.
+    /// normalised series crosses zero, where single terms explode (infinite, `null` in JSON,
+    /// when a target is exactly 0). For comparison with the paper only, never for ranking.
     pub are: f64,
     /// MAE in deg/s.
     pub mae_dps: f64,
     /// RMSE in deg/s.
     pub rmse_dps: f64,
-    /// Standard deviation of the raw test samples, deg/s.
+    /// Standard deviation (n − 1, as MATLAB's `std`) of the raw test samples, deg/s.
     pub std_raw_before: f64,
     /// Standard deviation of raw − prediction over the test part, deg/s.
     pub std_raw_after: f64,
@@ -138,36 +140,24 @@ pub fn score(prepared: &Prepared, predictions: &[f64]) -> PaperScores {
     let start = prepared.train_end;
     let targets = &prepared.normalised[start..];
     assert_eq!(predictions.len(), targets.len(), "one prediction per test target");
-    let n = targets.len() as f64;
-    let errors: Vec<f64> = predictions.iter().zip(targets).map(|(p, y)| p - y).collect();
-    let mae_norm = errors.iter().map(|e| e.abs()).sum::<f64>() / n;
-    let rmse_norm = (errors.iter().map(|e| e * e).sum::<f64>() / n).sqrt();
-    let are = errors.iter().zip(targets).map(|(e, y)| e.abs() / y.abs()).sum::<f64>() / n;
+    let m = Metrics::new(predictions, targets).expect("a non-empty test part");
     let in_dps: Vec<f64> = predictions.iter().map(|&p| prepared.scaler.inverse(p)).collect();
     let raw = &prepared.raw[start..];
     let drift = &prepared.denoised[start..];
     let raw_after: Vec<f64> = raw.iter().zip(&in_dps).map(|(r, p)| r - p).collect();
     let drift_after: Vec<f64> = drift.iter().zip(&in_dps).map(|(d, p)| d - p).collect();
+    let std = |x: &[f64]| std_dev(x).unwrap_or(0.0);
     PaperScores {
-        mae_norm,
-        rmse_norm,
-        are,
-        mae_dps: prepared.scaler.inverse_scale(mae_norm),
-        rmse_dps: prepared.scaler.inverse_scale(rmse_norm),
-        std_raw_before: std_dev(raw),
-        std_raw_after: std_dev(&raw_after),
-        std_drift_before: std_dev(drift),
-        std_drift_after: std_dev(&drift_after),
+        mae_norm: m.mae,
+        rmse_norm: m.rmse,
+        are: m.are,
+        mae_dps: prepared.scaler.inverse_scale(m.mae),
+        rmse_dps: prepared.scaler.inverse_scale(m.rmse),
+        std_raw_before: std(raw),
+        std_raw_after: std(&raw_after),
+        std_drift_before: std(drift),
+        std_drift_after: std(&drift_after),
     }
-}
-
-/// Population standard deviation (ddof = 0).
-pub fn std_dev(x: &[f64]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
-    (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / x.len() as f64).sqrt()
 }
 
 #[cfg(test)]
@@ -198,7 +188,8 @@ mod tests {
         let s = score(&p, &perfect);
         assert_eq!((s.mae_norm, s.rmse_norm, s.are), (0.0, 0.0, 0.0));
         assert!(s.std_drift_after < 1e-15);
-        assert!((s.std_raw_after - std_dev(&p.raw[p.train_end..].iter().zip(&p.denoised[p.train_end..]).map(|(r, d)| r - d).collect::<Vec<_>>())).abs() < 1e-15);
+        let noise: Vec<f64> = p.raw[p.train_end..].iter().zip(&p.denoised[p.train_end..]).map(|(r, d)| r - d).collect();
+        assert!((s.std_raw_after - std_dev(&noise).unwrap()).abs() < 1e-15);
         assert!(s.std_drift_before > 0.0);
     }
 
