@@ -4,6 +4,7 @@
 pub mod allan;
 pub mod cc;
 pub mod denoise;
+pub mod eval;
 pub mod input;
 
 use clap::{Parser, Subcommand};
@@ -32,6 +33,8 @@ pub enum Command {
     Cc(cc::CcArgs),
     /// Overlapping Allan deviation of a rate column and the IEEE Std 952 noise-term fit.
     Allan(allan::AllanArgs),
+    /// Evaluate the paper's models beside honest baselines (paper protocol).
+    Eval(eval::EvalArgs),
 }
 
 /// Runs the parsed command line.
@@ -40,5 +43,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Denoise(args) => denoise::run(&args),
         Command::Cc(args) => cc::run(&args),
         Command::Allan(args) => allan::run(&args),
+        Command::Eval(args) => eval::run(&args),
     }
 }
