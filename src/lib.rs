@@ -10,6 +10,7 @@
 //! - [`stream`]: per-sample building blocks: ring buffer, causal wavelet denoiser, PSR embedding.
 //! - [`model`]: the [-1, 1] scaler (Eq. 21) and the C-C method (Eq. 18–20).
 //! - [`diag`]: Allan deviation and the IEEE Std 952 noise-term fit.
+//! - [`sim`]: seeded IMU error simulator (presets, TOML configs) and known motion profiles.
 //! - [`io`]: CSV reading and writing (the edge where files live).
 //! - [`cli`]: the `gyrocomp` command-line driver.
 
@@ -17,5 +18,6 @@ pub mod cli;
 pub mod diag;
 pub mod io;
 pub mod model;
+pub mod sim;
 pub mod stream;
 pub mod wavelet;

@@ -5,6 +5,8 @@ pub mod allan;
 pub mod cc;
 pub mod denoise;
 pub mod input;
+pub mod motion;
+pub mod sim;
 
 use clap::{Parser, Subcommand};
 
@@ -32,6 +34,10 @@ pub enum Command {
     Cc(cc::CcArgs),
     /// Overlapping Allan deviation of a rate column and the IEEE Std 952 noise-term fit.
     Allan(allan::AllanArgs),
+    /// Simulate a gyro triad (seeded error model: preset or TOML config).
+    Sim(sim::SimArgs),
+    /// Add a known motion profile to the rate columns of a static recording.
+    Motion(motion::MotionArgs),
 }
 
 /// Runs the parsed command line.
@@ -40,5 +46,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Denoise(args) => denoise::run(&args),
         Command::Cc(args) => cc::run(&args),
         Command::Allan(args) => allan::run(&args),
+        Command::Sim(args) => sim::run(&args),
+        Command::Motion(args) => motion::run(&args),
     }
 }
