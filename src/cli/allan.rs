@@ -1,15 +1,230 @@
-//! `gyrocomp allan` (to be written).
+//! `gyrocomp allan`: overlapping Allan deviation of one rate column and the IEEE Std 952-1997
+//! (Annex C) noise-term fit, printed as a table or as JSON.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use serde::Serialize;
 
 use super::CliError;
+use super::input::load_series;
+use crate::diag::allan::{AllanDeviation, Taus, oadev_with_max_m};
+use crate::diag::noise_fit::{NoiseFit, Weighting, fit_allan};
+use crate::diag::noise_model::{CustomaryNoise, NoiseModel};
+
+/// Above this many samples `--taus all` without `--max-m` logs a warning about its O(N²) cost.
+const ALL_TAUS_WARN_SAMPLES: usize = 50_000;
+
+/// The τ grid of `--taus`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TauGrid {
+    /// m = 1, 2, 4, 8, … samples (allantools "octave").
+    Octave,
+    /// Every m = 1, 2, 3, … (allantools "all"): about N²/4 operations for N samples.
+    All,
+}
+
+/// Weights of the noise-term fit (`--fit-weights`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FitWeights {
+    /// n/m: independent terms per τ (default; long τ count less).
+    Independent,
+    /// n: overlapping terms per τ (nearly equal weights on an octave grid).
+    Terms,
+}
 
 /// Arguments of `gyrocomp allan`.
 #[derive(Debug, clap::Args)]
 pub struct AllanArgs {
-    /// Input CSV file.
-    pub input: std::path::PathBuf,
+    /// Input CSV file (header line, time column `t_s`, `t` or `time` in seconds, rates in deg/s).
+    pub input: PathBuf,
+    /// Rate column to analyse, deg/s.
+    #[arg(long, default_value = "gx_dps")]
+    pub column: String,
+    /// Sample rate in Hz (default: from the time column, (rows − 1)/(t_last − t_first)).
+    #[arg(long)]
+    pub rate: Option<f64>,
+    /// Averaging times: octave (m = 1, 2, 4, … samples) or all (every m; O(N²): seconds for
+    /// 10⁵ samples, about ten minutes for 10⁶; bound it with --max-m).
+    #[arg(long, value_enum, default_value_t = TauGrid::Octave)]
+    pub taus: TauGrid,
+    /// Largest averaging factor m (samples) to evaluate.
+    #[arg(long)]
+    pub max_m: Option<usize>,
+    /// Weights of the noise-term fit (always made on the octave points m = 2^k).
+    #[arg(long, value_enum, default_value_t = FitWeights::Independent)]
+    pub fit_weights: FitWeights,
+    /// Print JSON: {"tau_s":[…],"adev":[…],"fit":{"q","n","b","k","r"},…} ("fit" is null when
+    /// the Allan deviation is zero everywhere).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Runs `gyrocomp allan`.
-pub fn run(_args: &AllanArgs) -> Result<(), CliError> {
-    Err("not written yet".into())
+pub fn run(args: &AllanArgs) -> Result<(), CliError> {
+    let series = load_series(&args.input, &args.column, args.rate)?;
+    let samples = series.values.len();
+    let taus = match args.taus {
+        TauGrid::Octave => Taus::Octave,
+        TauGrid::All => Taus::All,
+    };
+    if args.taus == TauGrid::All && args.max_m.is_none() && samples > ALL_TAUS_WARN_SAMPLES {
+        tracing::warn!(
+            "--taus all on {samples} samples costs about N²/4 = {:.1e} operations; bound it with --max-m",
+            (samples as f64).powi(2) / 4.0
+        );
+    }
+    let allan = oadev_with_max_m(&series.values, series.rate_hz, &taus, args.max_m.unwrap_or(usize::MAX))
+        .map_err(|e| format!("{}: column `{}`: {e}", args.input.display(), args.column))?;
+    let weighting = match args.fit_weights {
+        FitWeights::Independent => Weighting::IndependentTerms,
+        FitWeights::Terms => Weighting::Terms,
+    };
+    let fit = match fit_allan(&allan.octave_points(), weighting) {
+        Ok(fit) => Some(fit),
+        Err(e) => {
+            tracing::warn!("{}: column `{}`: no noise-term fit: {e}", args.input.display(), args.column);
+            None
+        }
+    };
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        let report = JsonReport::new(args, &allan, fit.as_ref());
+        serde_json::to_writer(&mut out, &report)?;
+        writeln!(out)?;
+    } else {
+        write_table(&mut out, args, &allan, fit.as_ref())?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// The JSON document of `--json`; the first three keys are the stable interface.
+#[derive(Serialize)]
+struct JsonReport<'a> {
+    tau_s: &'a [f64],
+    adev: &'a [f64],
+    fit: Option<NoiseModel>,
+    n_terms: &'a [usize],
+    m: &'a [usize],
+    adev_err: &'a [f64],
+    fit_customary: Option<CustomaryNoise>,
+    fit_info: Option<FitInfo>,
+    column: &'a str,
+    rate_hz: f64,
+    samples: usize,
+    units: Units,
+}
+
+#[derive(Serialize)]
+struct FitInfo {
+    model: &'static str,
+    taus: &'static str,
+    weights: &'static str,
+    points: usize,
+    rms_relative_residual: f64,
+}
+
+#[derive(Serialize)]
+struct Units {
+    tau_s: &'static str,
+    adev: &'static str,
+    fit: [&'static str; 5],
+    fit_customary: [&'static str; 5],
+}
+
+impl<'a> JsonReport<'a> {
+    fn new(args: &'a AllanArgs, allan: &'a AllanDeviation, fit: Option<&NoiseFit>) -> Self {
+        Self {
+            tau_s: &allan.tau_s,
+            adev: &allan.adev,
+            fit: fit.map(|f| f.model),
+            n_terms: &allan.n,
+            m: &allan.m,
+            adev_err: &allan.adev_err,
+            fit_customary: fit.map(|f| f.model.customary()),
+            fit_info: fit.map(|f| FitInfo {
+                model: "IEEE Std 952-1997 Annex C: avar = 3q^2/tau^2 + n^2/tau + (2 ln2/pi) b^2 + k^2 tau/3 + r^2 tau^2/2",
+                taus: "octave points (m = 2^k)",
+                weights: weights_label(args.fit_weights),
+                points: f.points,
+                rms_relative_residual: f.rms_relative_residual,
+            }),
+            column: &args.column,
+            rate_hz: allan.rate_hz,
+            samples: allan.samples,
+            units: Units {
+                tau_s: "s",
+                adev: "deg/s",
+                fit: ["q: deg", "n: deg/sqrt(s)", "b: deg/s", "k: deg/s/sqrt(s)", "r: deg/s^2"],
+                fit_customary: ["q_deg: deg", "n: deg/sqrt(h)", "b: deg/h", "k: deg/h/sqrt(h)", "r: deg/h^2"],
+            },
+        }
+    }
+}
+
+fn weights_label(w: FitWeights) -> &'static str {
+    match w {
+        FitWeights::Independent => "relative residual of avar, weight n/m (independent terms)",
+        FitWeights::Terms => "relative residual of avar, weight n (overlapping terms)",
+    }
+}
+
+fn write_table(
+    out: &mut impl Write,
+    args: &AllanArgs,
+    allan: &AllanDeviation,
+    fit: Option<&NoiseFit>,
+) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "Overlapping Allan deviation of `{}` in {}: {} samples at {} Hz",
+        args.column,
+        args.input.display(),
+        allan.samples,
+        allan.rate_hz
+    )?;
+    writeln!(out)?;
+    writeln!(
+        out,
+        "{:>14} {:>10} {:>14} {:>12} {:>10} {:>14}",
+        "tau_s", "m", "adev_dps", "adev_err", "n", "fit_adev_dps"
+    )?;
+    for i in 0..allan.len() {
+        let model =
+            fit.map_or(String::from("-"), |f| format!("{:.6e}", f.model.allan_deviation(allan.tau_s[i])));
+        writeln!(
+            out,
+            "{:>14.6} {:>10} {:>14.6e} {:>12.3e} {:>10} {:>14}",
+            allan.tau_s[i], allan.m[i], allan.adev[i], allan.adev_err[i], allan.n[i], model
+        )?;
+    }
+    writeln!(out)?;
+    let Some(fit) = fit else {
+        return writeln!(out, "No noise-term fit: the Allan deviation is zero or unusable at every tau.");
+    };
+    let (m, c) = (fit.model, fit.model.customary());
+    writeln!(out, "IEEE Std 952-1997 Annex C noise-term fit")?;
+    writeln!(out, "  avar(tau) = 3Q²/tau² + N²/tau + (2 ln2/π)B² + K²tau/3 + R²tau²/2")?;
+    writeln!(
+        out,
+        "  on {} octave points, {}; weighted RMS relative misfit {:.3}",
+        fit.points,
+        weights_label(args.fit_weights),
+        fit.rms_relative_residual
+    )?;
+    writeln!(out, "  Q  quantisation      {:>12.4e} deg", m.q)?;
+    writeln!(
+        out,
+        "  N  angle random walk {:>12.4e} deg/√s      = {:>12.4e} deg/√h",
+        m.n, c.n_deg_per_sqrt_h
+    )?;
+    writeln!(out, "  B  bias instability  {:>12.4e} deg/s       = {:>12.4e} deg/h", m.b, c.b_deg_per_h)?;
+    writeln!(
+        out,
+        "  K  rate random walk  {:>12.4e} deg/s/√s    = {:>12.4e} deg/h/√h",
+        m.k, c.k_deg_per_h_sqrt_h
+    )?;
+    writeln!(out, "  R  rate ramp         {:>12.4e} deg/s²      = {:>12.4e} deg/h²", m.r, c.r_deg_per_h2)?;
+    Ok(())
 }
