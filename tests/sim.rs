@@ -32,7 +32,7 @@ fn oavar(x: &[f64], m: usize) -> f64 {
         s.push(acc);
     }
     let n = x.len();
-    assert!(n >= 2 * m + 1);
+    assert!(n > 2 * m);
     let terms = n + 1 - 2 * m;
     let mut sum = 0.0;
     for k in 0..terms {
