@@ -7,10 +7,10 @@
 //! Module map (pure numerics never touch files, threads or IPC):
 //! - [`wavelet`]: Daubechies filters, PyWavelets-compatible `wavedec`/`waverec`, universal soft
 //!   threshold, batch denoising.
+//! - [`sim`]: seeded IMU error simulator (presets, TOML configs) and known motion profiles.
 //! - [`stream`]: per-sample building blocks: ring buffer, causal wavelet denoiser, PSR embedding.
 //! - [`model`]: the [-1, 1] scaler (Eq. 21) and the C-C method (Eq. 18–20).
 //! - [`diag`]: Allan deviation and the IEEE Std 952 noise-term fit.
-//! - [`sim`]: seeded IMU error simulator (presets, TOML configs) and known motion profiles.
 //! - [`io`]: CSV reading and writing (the edge where files live).
 //! - [`cli`]: the `gyrocomp` command-line driver.
 

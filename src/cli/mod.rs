@@ -28,25 +28,25 @@ pub struct Cli {
 /// Subcommands of `gyrocomp`.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Simulate a gyro triad (seeded error model: preset or TOML config).
+    Sim(sim::SimArgs),
+    /// Add a known motion profile to the rate columns of a static recording.
+    Motion(motion::MotionArgs),
     /// Wavelet-denoise one column (db4, universal soft threshold), batch or causal.
     Denoise(denoise::DenoiseArgs),
     /// C-C method: delay τ, delay window τw and embedding dimension m of a column.
     Cc(cc::CcArgs),
     /// Overlapping Allan deviation of a rate column and the IEEE Std 952 noise-term fit.
     Allan(allan::AllanArgs),
-    /// Simulate a gyro triad (seeded error model: preset or TOML config).
-    Sim(sim::SimArgs),
-    /// Add a known motion profile to the rate columns of a static recording.
-    Motion(motion::MotionArgs),
 }
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
+        Command::Sim(args) => sim::run(&args),
+        Command::Motion(args) => motion::run(&args),
         Command::Denoise(args) => denoise::run(&args),
         Command::Cc(args) => cc::run(&args),
         Command::Allan(args) => allan::run(&args),
-        Command::Sim(args) => sim::run(&args),
-        Command::Motion(args) => motion::run(&args),
     }
 }
