@@ -7,6 +7,7 @@
 //! Module map (pure numerics never touch files, threads or IPC):
 //! - [`wavelet`]: Daubechies filters, PyWavelets-compatible `wavedec`/`waverec`, universal soft
 //!   threshold, batch denoising.
+//! - [`sim`]: seeded IMU error simulator (presets, TOML configs) and known motion profiles.
 //! - [`stream`]: per-sample building blocks: ring buffer, causal wavelet denoiser, PSR embedding.
 //! - [`model`]: the [-1, 1] scaler (Eq. 21) and the C-C method (Eq. 18–20).
 //! - [`diag`]: Allan deviation and the IEEE Std 952 noise-term fit.
@@ -21,5 +22,6 @@ pub mod diag;
 pub mod eval;
 pub mod io;
 pub mod model;
+pub mod sim;
 pub mod stream;
 pub mod wavelet;

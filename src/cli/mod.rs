@@ -6,6 +6,8 @@ pub mod cc;
 pub mod denoise;
 pub mod eval;
 pub mod input;
+pub mod motion;
+pub mod sim;
 
 use clap::{Parser, Subcommand};
 
@@ -27,6 +29,10 @@ pub struct Cli {
 /// Subcommands of `gyrocomp`.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Simulate a gyro triad (seeded error model: preset or TOML config).
+    Sim(sim::SimArgs),
+    /// Add a known motion profile to the rate columns of a static recording.
+    Motion(motion::MotionArgs),
     /// Wavelet-denoise one column (db4, universal soft threshold), batch or causal.
     Denoise(denoise::DenoiseArgs),
     /// C-C method: delay τ, delay window τw and embedding dimension m of a column.
@@ -40,6 +46,8 @@ pub enum Command {
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
+        Command::Sim(args) => sim::run(&args),
+        Command::Motion(args) => motion::run(&args),
         Command::Denoise(args) => denoise::run(&args),
         Command::Cc(args) => cc::run(&args),
         Command::Allan(args) => allan::run(&args),
