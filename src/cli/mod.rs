@@ -3,6 +3,7 @@
 
 pub mod allan;
 pub mod cc;
+pub mod demo;
 pub mod denoise;
 pub mod eval;
 pub mod input;
@@ -29,6 +30,8 @@ pub struct Cli {
 /// Subcommands of `gyrocomp`.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// The main job: simulate a paper-like recording and run every offline stage on it.
+    Demo(demo::DemoArgs),
     /// Simulate a gyro triad (seeded error model: preset or TOML config).
     Sim(sim::SimArgs),
     /// Add a known motion profile to the rate columns of a static recording.
@@ -46,6 +49,7 @@ pub enum Command {
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
+        Command::Demo(args) => demo::run_demo(&args),
         Command::Sim(args) => sim::run(&args),
         Command::Motion(args) => motion::run(&args),
         Command::Denoise(args) => denoise::run(&args),
