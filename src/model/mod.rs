@@ -2,6 +2,9 @@
 //! for choosing the PSR delay and dimension (paper Eq. 18–20, Kim, Eykholt & Salas 1999).
 
 pub mod cc;
+pub mod cpso;
+pub mod lssvm;
+pub mod rng;
 pub mod scaler;
 pub mod traits;
 
