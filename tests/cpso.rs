@@ -1,5 +1,9 @@
 //! CPSO (paper §2.2, Eq. 9–14): known optima of test functions, determinism per seed and
 //! independence from the thread count; CPSO-LSSVM against a badly chosen fixed (γ, σ²).
+//!
+//! The ignored test `real_data_paper_group` prints the real-data figures (chosen γ, σ², test RMSE
+//! beside persistence): `cargo test --release --test cpso -- --ignored --nocapture real_data`
+//! (with `GYROCOMP_EXACT_TUNING=1` it also tunes over the exact LS-SVM, about two minutes).
 
 use gyrocomp::model::cpso::chaos::chaotic_candidates;
 use gyrocomp::model::cpso::{CpsoConfig, CpsoError, minimize};
@@ -205,7 +209,7 @@ fn paper_group() -> Option<(Vec<f64>, gyrocomp::model::scaler::MinMaxScaler)> {
 /// Real-data figures: default CpsoLssvm on the paper's first group (4000 training rows, 1000
 /// test rows), beside persistence, the paper's fixed (γ, σ²) and CPSO over the exact LS-SVM.
 #[test]
-#[ignore = "measurement (minutes in release): run with --ignored --nocapture"]
+#[ignore = "measurement (seconds in release; GYROCOMP_EXACT_TUNING=1 adds minutes): --ignored --nocapture"]
 fn real_data_paper_group() {
     use std::time::Instant;
     let Some((x, scaler)) = paper_group() else { return };
@@ -229,10 +233,12 @@ fn real_data_paper_group() {
             scaler.inverse_scale(r)
         );
     };
-    for _ in 0..3 {
-        let t = Instant::now();
-        let m = CpsoLssvm::default().fit(&x[..train_len]).unwrap();
-        report("CpsoLssvm::default()", &m, t.elapsed().as_secs_f64());
+    for prototypes in [CpsoLssvm::default().prototypes, 100, 200] {
+        for _ in 0..3 {
+            let t = Instant::now();
+            let m = CpsoLssvm { prototypes, ..CpsoLssvm::default() }.fit(&x[..train_len]).unwrap();
+            report(&format!("CpsoLssvm, m_p = {prototypes}"), &m, t.elapsed().as_secs_f64());
+        }
     }
     let paper =
         LssvmConfig { gamma: 29.358, sigma2: 83.162, embedding: Embedding::PAPER }.fit(&x[..train_len]).unwrap();
@@ -242,5 +248,20 @@ fn real_data_paper_group() {
         let t = Instant::now();
         let m = CpsoLssvm { exact_max_rows: usize::MAX, ..CpsoLssvm::default() }.fit(&x[..train_len]).unwrap();
         report("CPSO over the exact LS-SVM", &m, t.elapsed().as_secs_f64());
+    }
+}
+
+#[test]
+fn cpso_lssvm_is_bit_identical_for_any_thread_count() {
+    let series = logistic_series(330);
+    let embedding = Embedding { tau: 1, dim: 2 };
+    for exact_max_rows in [1000, 100] {
+        let run = |threads| {
+            let cpso = CpsoConfig { candidates: 10, particles: 5, iterations: 4, threads, ..CpsoConfig::default() };
+            CpsoLssvm { embedding, cpso, exact_max_rows, prototypes: 40, ..CpsoLssvm::default() }.fit(&series).unwrap()
+        };
+        let one = run(1);
+        assert_eq!(one, run(2), "exact up to {exact_max_rows} rows");
+        assert_eq!(one, run(5), "exact up to {exact_max_rows} rows");
     }
 }

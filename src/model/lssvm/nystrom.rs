@@ -20,7 +20,7 @@
 //! Leave-one-out residuals of this linear smoother (prototypes held fixed) are closed-form too:
 //! `r_i = e_i / (1 − h_i)`, `h_i = φ̃_iᵀ M⁻¹ φ̃_i` with `φ̃ = [φ; 1]` and M the matrix above.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DMatrixView};
 
 use super::dense::{cholesky_in_place, solve_cholesky};
 use super::kernel::sq_dist_matrix;
@@ -42,8 +42,8 @@ pub struct NystromProblem {
     protos: Vec<f64>,
     /// ‖z_a − z_b‖², m_p × m_p.
     d_pp: DMatrix<f64>,
-    /// ‖x_i − z_a‖², n × m_p (column-major: one column per prototype).
-    d_xp: DMatrix<f64>,
+    /// ‖z_a − x_i‖², m_p × n (column-major: one column per training row).
+    d_px: DMatrix<f64>,
     targets: Vec<f64>,
 }
 
@@ -71,8 +71,8 @@ impl NystromProblem {
             ));
         }
         let d_pp = sq_dist_matrix(&protos, &protos, dim);
-        let d_xp = sq_dist_matrix(inputs, &protos, dim);
-        Ok(Self { dim, protos, d_pp, d_xp, targets: targets.to_vec() })
+        let d_px = sq_dist_matrix(&protos, inputs, dim);
+        Ok(Self { dim, protos, d_pp, d_px, targets: targets.to_vec() })
     }
 
     /// Number of training rows.
@@ -94,30 +94,41 @@ impl NystromProblem {
     pub fn solve(&self, gamma: f64, sigma2: f64, rank_tol: f64, loo: bool) -> Result<NystromSolution, FitError> {
         check_hyper(gamma, sigma2)?;
         let n = self.rows();
+        let mp = self.prototypes();
         let s = -1.0 / sigma2;
-        let (pivots, linv_t) = pivoted_basis(&self.d_pp, s, rank_tol)?;
+        let (pivots, linv) = pivoted_basis(&self.d_pp, s, rank_tol)?;
         let r = pivots.len();
-        // C_S = K(x, z_S), then Φ = C_S L⁻ᵀ.
-        let mut c = DMatrix::<f64>::zeros(n, r);
-        for (a, &p) in pivots.iter().enumerate() {
-            for (v, &d) in c.column_mut(a).iter_mut().zip(self.d_xp.column(p).iter()) {
-                *v = (d * s).exp();
+        // Cᵀ = K(z_S, x) (r × n, one column per training row), then Φᵀ = L⁻¹ Cᵀ.
+        let mut ct = DMatrix::<f64>::zeros(r, n);
+        for (dst, src) in ct.as_mut_slice().chunks_exact_mut(r).zip(self.d_px.as_slice().chunks_exact(mp)) {
+            for (v, &p) in dst.iter_mut().zip(&pivots) {
+                *v = (src[p] * s).exp();
             }
         }
-        let mut phi = DMatrix::<f64>::zeros(n, r);
-        phi.gemm(1.0, &c, &linv_t, 0.0);
-        drop(c);
+        let mut phit = DMatrix::<f64>::zeros(r, n);
+        phit.gemm(1.0, &linv, &ct, 0.0);
+        drop(ct);
         // M = [ΦᵀΦ + I/γ, Φᵀ1; 1ᵀΦ, n] (lower triangle used), rhs = [Φᵀy; 1ᵀy].
         let mut m = DMatrix::<f64>::zeros(r + 1, r + 1);
-        // An owned transpose: nalgebra's small-size gemm fallback mis-sizes strided views.
-        let phi_t = phi.transpose();
-        m.view_mut((0, 0), (r, r)).gemm(1.0, &phi_t, &phi, 0.0);
+        if r > 5 && n > 5 {
+            // Φ as a strided view of Φᵀ. nalgebra's small-size gemm fallback (any dimension ≤ 5)
+            // mis-sizes strided vectors, hence the owned transpose below in that case.
+            let phi = DMatrixView::from_slice_with_strides(phit.as_slice(), n, r, r, 1);
+            m.view_mut((0, 0), (r, r)).gemm(1.0, &phit, &phi, 0.0);
+        } else {
+            m.view_mut((0, 0), (r, r)).gemm(1.0, &phit, &phit.transpose(), 0.0);
+        }
         let mut rhs = vec![0.0; r + 1];
-        for a in 0..r {
+        let mut ones = vec![0.0; r];
+        for (col, &y) in phit.as_slice().chunks_exact(r).zip(&self.targets) {
+            for ((t, o), &p) in rhs.iter_mut().zip(ones.iter_mut()).zip(col) {
+                *t += p * y;
+                *o += p;
+            }
+        }
+        for (a, &o) in ones.iter().enumerate() {
             m[(a, a)] += 1.0 / gamma;
-            let col = phi.column(a);
-            m[(r, a)] = col.sum();
-            rhs[a] = col.iter().zip(&self.targets).map(|(p, y)| p * y).sum();
+            m[(r, a)] = o;
         }
         m[(r, r)] = n as f64;
         rhs[r] = self.targets.iter().sum();
@@ -126,14 +137,14 @@ impl NystromProblem {
         let mut sol = rhs;
         solve_cholesky(&m, &mut sol);
         let (w, bias) = (&sol[..r], sol[r]);
-        let mut train_predictions = vec![bias; n];
-        for (a, &wa) in w.iter().enumerate() {
-            for (f, &p) in train_predictions.iter_mut().zip(phi.column(a).iter()) {
-                *f += wa * p;
-            }
-        }
-        let loo_residuals = if loo { Some(loo_residuals(&phi, &m, &self.targets, &train_predictions)?) } else { None };
-        let beta: Vec<f64> = (0..r).map(|a| (a..r).map(|k| linv_t[(a, k)] * w[k]).sum()).collect();
+        let train_predictions: Vec<f64> = phit
+            .as_slice()
+            .chunks_exact(r)
+            .map(|col| bias + col.iter().zip(w).map(|(p, w)| p * w).sum::<f64>())
+            .collect();
+        let loo_residuals = if loo { Some(loo_residuals(&phit, &m, &self.targets, &train_predictions)?) } else { None };
+        // β = L⁻ᵀ w (L⁻¹ is lower triangular).
+        let beta: Vec<f64> = (0..r).map(|a| (a..r).map(|k| linv[(k, a)] * w[k]).sum()).collect();
         if !bias.is_finite() || beta.iter().any(|v| !v.is_finite()) {
             return Err(FitError::Numerical("non-finite fixed-size LS-SVM solution".into()));
         }
@@ -148,7 +159,7 @@ impl NystromProblem {
     }
 }
 
-/// Pivoted Cholesky of `W = exp(s · d_pp)`: the retained pivots S (in pivot order) and `L⁻ᵀ`
+/// Pivoted Cholesky of `W = exp(s · d_pp)`: the retained pivots S (in pivot order) and `L⁻¹`
 /// for `W_SS = L Lᵀ`. Stops when the largest residual diagonal falls to `tol` (W_ii = 1).
 fn pivoted_basis(d_pp: &DMatrix<f64>, s: f64, tol: f64) -> Result<(Vec<usize>, DMatrix<f64>), FitError> {
     let mp = d_pp.nrows();
@@ -203,27 +214,27 @@ fn pivoted_basis(d_pp: &DMatrix<f64>, s: f64, tol: f64) -> Result<(Vec<usize>, D
     let linv = l
         .solve_lower_triangular(&DMatrix::identity(r, r))
         .ok_or_else(|| FitError::Numerical("prototype kernel factor is singular".into()))?;
-    Ok((pivots, linv.transpose()))
+    Ok((pivots, linv))
 }
 
-/// `e_i / (1 − h_i)` with `h_i = ‖L_M⁻¹ φ̃_i‖²`, `φ̃_i = [φ_i; 1]`, `M = L_M L_Mᵀ`.
-fn loo_residuals(phi: &DMatrix<f64>, m_factor: &DMatrix<f64>, y: &[f64], fitted: &[f64]) -> Result<Vec<f64>, FitError> {
-    let (n, r) = phi.shape();
+/// `e_i / (1 − h_i)` with `h_i = ‖L_M⁻¹ φ̃_i‖²`, `φ̃_i = [φ_i; 1]`, `M = L_M L_Mᵀ`; `phit` is Φᵀ.
+fn loo_residuals(
+    phit: &DMatrix<f64>,
+    m_factor: &DMatrix<f64>,
+    y: &[f64],
+    fitted: &[f64],
+) -> Result<Vec<f64>, FitError> {
+    let (r, n) = phit.shape();
     let linv = m_factor
         .solve_lower_triangular(&DMatrix::identity(r + 1, r + 1))
         .ok_or_else(|| FitError::Numerical("singular normal-equation factor".into()))?;
-    // Z = Φ̃ L_M⁻ᵀ (n × (r+1)); h_i = ‖Z_i‖².
-    let mut z = DMatrix::<f64>::zeros(n, r + 1);
-    z.gemm(1.0, phi, &linv.view((0, 0), (r + 1, r)).transpose(), 0.0);
-    let last = linv.column(r);
-    let mut h = vec![0.0; n];
-    for (k, col) in z.column_iter_mut().enumerate() {
-        for (v, hi) in col.into_iter().zip(h.iter_mut()) {
-            *v += last[k];
-            *hi += *v * *v;
-        }
-    }
-    Ok(y.iter().zip(fitted).zip(&h).map(|((y, f), h)| (y - f) / (1.0 - h)).collect())
+    // Z = L_M⁻¹ Φ̃ᵀ = L_M⁻¹[:, ..r] Φᵀ + L_M⁻¹[:, r] 1ᵀ ((r+1) × n); h_i = ‖Z[:, i]‖².
+    let mut z = DMatrix::<f64>::zeros(r + 1, n);
+    z.gemm(1.0, &linv.columns(0, r), phit, 0.0);
+    let last: Vec<f64> = linv.column(r).iter().copied().collect();
+    let h =
+        z.as_slice().chunks_exact(r + 1).map(|col| col.iter().zip(&last).map(|(v, l)| (v + l) * (v + l)).sum::<f64>());
+    Ok(y.iter().zip(fitted).zip(h).map(|((y, f), h)| (y - f) / (1.0 - h)).collect())
 }
 
 /// Fixed-size (Nyström) LS-SVM on PSR rows with fixed γ and σ² (Suykens et al. 2002): the
@@ -315,6 +326,25 @@ mod tests {
         let (a, b) = (exact.loo_residuals.unwrap(), sol.loo_residuals.unwrap());
         for i in 0..40 {
             assert!((a[i] - b[i]).abs() < 1e-6, "LOO {i}: {} vs {}", a[i], b[i]);
+        }
+    }
+
+    #[test]
+    fn closed_form_loo_equals_refitting_with_the_same_prototypes() {
+        let (x, y) = data(30);
+        // 3 prototypes exercise nalgebra's small-matrix path, 12 the general one.
+        for mp in [3, 12] {
+            let protos = x[..2 * mp].to_vec();
+            let sol = NystromProblem::new(&x, 2, &y, protos.clone()).unwrap().solve(20.0, 0.3, 1e-12, true).unwrap();
+            let loo = sol.loo_residuals.unwrap();
+            for i in 0..30 {
+                let xs: Vec<f64> = (0..30).filter(|&k| k != i).flat_map(|k| x[2 * k..2 * k + 2].to_vec()).collect();
+                let ys: Vec<f64> = (0..30).filter(|&k| k != i).map(|k| y[k]).collect();
+                let s =
+                    NystromProblem::new(&xs, 2, &ys, protos.clone()).unwrap().solve(20.0, 0.3, 1e-12, false).unwrap();
+                let r = y[i] - s.expansion.eval(&x[2 * i..2 * i + 2]);
+                assert!((r - loo[i]).abs() < 1e-9, "m_p = {mp}, row {i}: {r} vs {}", loo[i]);
+            }
         }
     }
 
