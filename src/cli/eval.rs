@@ -35,6 +35,12 @@ pub struct EvalArgs {
     /// Samples taken from the start of the recording.
     #[arg(long, default_value_t = 5000)]
     pub samples: usize,
+    /// γ of the fixed-parameter `lssvm` model (default: the paper's 29.358).
+    #[arg(long, default_value_t = 29.358)]
+    pub gam: f64,
+    /// σ² of the fixed-parameter `lssvm` model (default: the paper's 83.162).
+    #[arg(long, default_value_t = 83.162)]
+    pub sig2: f64,
     /// Seed of the stochastic models (BP-ANN initialisation, CPSO).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -94,6 +100,8 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         embedding: protocol.embedding,
         seed: args.seed,
         bias_hold_samples: (60.0 * series.rate_hz).round().max(1.0) as usize,
+        gamma: args.gam,
+        sigma2: args.sig2,
     };
     let kinds = args.models.clone().unwrap_or_else(|| ModelKind::ALL.to_vec());
     let mut rows = Vec::with_capacity(kinds.len());

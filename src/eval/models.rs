@@ -11,6 +11,7 @@ use serde::Serialize;
 use super::paper::Prepared;
 use crate::model::baselines::{Ar, BiasHold, LinearPsr, Mean, Persistence};
 use crate::model::bp_ann::BpAnn;
+use crate::model::lssvm::{CpsoLssvm, LssvmConfig};
 use crate::model::{Fit, FitError, Predict, predict_from};
 use crate::stream::Embedding;
 
@@ -18,6 +19,10 @@ use crate::stream::Embedding;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ModelKind {
+    /// The paper's model: LSSVM with (γ, σ²) tuned by CPSO.
+    CpsoLssvm,
+    /// LSSVM with fixed (γ, σ²) (default: the paper's γ = 29.358, σ² = 83.162), exact solve.
+    Lssvm,
     /// The paper's BP-ANN (3-10-1, Levenberg–Marquardt).
     BpAnn,
     /// x̂[t+1] = x[t].
@@ -34,11 +39,14 @@ pub enum ModelKind {
 
 impl ModelKind {
     /// Every model, paper models first.
-    pub const ALL: [Self; 6] = [Self::BpAnn, Self::Persistence, Self::Ar, Self::Mean, Self::BiasHold, Self::LinearPsr];
+    pub const ALL: [Self; 8] =
+        [Self::CpsoLssvm, Self::Lssvm, Self::BpAnn, Self::Persistence, Self::Ar, Self::Mean, Self::BiasHold, Self::LinearPsr];
 
     /// The name used on the command line and in JSON.
     pub fn name(self) -> &'static str {
         match self {
+            Self::CpsoLssvm => "cpso-lssvm",
+            Self::Lssvm => "lssvm",
             Self::BpAnn => "bp-ann",
             Self::Persistence => "persistence",
             Self::Ar => "ar",
@@ -75,6 +83,10 @@ pub struct ModelOptions {
     pub seed: u64,
     /// Samples averaged by the start-up bias-hold.
     pub bias_hold_samples: usize,
+    /// γ of the fixed-parameter LSSVM.
+    pub gamma: f64,
+    /// σ² of the fixed-parameter LSSVM.
+    pub sigma2: f64,
 }
 
 /// One model's test predictions and what its fit cost.
@@ -106,7 +118,21 @@ fn fit_and_predict<F: Fit>(config: &F, data: &Prepared) -> Result<(F::Model, Vec
 
 /// Runs one model on prepared data.
 pub fn run_model(kind: ModelKind, data: &Prepared, options: &ModelOptions) -> Result<ModelRun, FitError> {
+    let mut hyper = (None, None);
     let (predictions, train_s, detail) = match kind {
+        ModelKind::CpsoLssvm => {
+            let mut config = CpsoLssvm { embedding: options.embedding, ..CpsoLssvm::default() };
+            config.cpso.seed = options.seed;
+            let (model, p, s) = fit_and_predict(&config, data)?;
+            hyper = (Some(model.gamma), Some(model.sigma2));
+            (p, s, format!("{:?}, {} CPSO evaluations, held-out fitness {:.4}", model.solver, model.evaluations, model.fitness))
+        }
+        ModelKind::Lssvm => {
+            let config = LssvmConfig { gamma: options.gamma, sigma2: options.sigma2, embedding: options.embedding };
+            let (_, p, s) = fit_and_predict(&config, data)?;
+            hyper = (Some(options.gamma), Some(options.sigma2));
+            (p, s, "exact".to_owned())
+        }
         ModelKind::BpAnn => {
             let config = BpAnn { embedding: options.embedding, seed: options.seed, ..BpAnn::default() };
             let (model, p, s) = fit_and_predict(&config, data)?;
@@ -134,5 +160,5 @@ pub fn run_model(kind: ModelKind, data: &Prepared, options: &ModelOptions) -> Re
             (p, s, String::new())
         }
     };
-    Ok(ModelRun { kind, predictions, train_s, gam: None, sig2: None, detail })
+    Ok(ModelRun { kind, predictions, train_s, gam: hyper.0, sig2: hyper.1, detail })
 }
