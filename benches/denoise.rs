@@ -35,9 +35,7 @@ fn batch(c: &mut Criterion) {
     let x = signal(100_000);
     let mut group = c.benchmark_group("batch");
     group.sample_size(30);
-    group.bench_function("baseline_copy_sum_100k", |b| {
-        b.iter(|| black_box(x.to_vec()).iter().sum::<f64>())
-    });
+    group.bench_function("baseline_copy_sum_100k", |b| b.iter(|| black_box(x.to_vec()).iter().sum::<f64>()));
     let w = Wavelet::db4();
     group.bench_function("wavedec_waverec_100k", |b| b.iter(|| waverec(&wavedec(black_box(&x), &w, 3), &w)));
     group.bench_function("denoise_100k", |b| b.iter(|| denoise_batch(black_box(&x), &DenoiseConfig::paper())));

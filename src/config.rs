@@ -94,7 +94,8 @@ impl Config {
 
     /// The batch denoiser settings of `[denoise]`.
     pub fn denoise(&self) -> Result<DenoiseConfig, ConfigError> {
-        let wavelet = Wavelet::from_name(&self.denoise.wavelet).map_err(|e| ConfigError(format!("denoise.wavelet: {e}")))?;
+        let wavelet =
+            Wavelet::from_name(&self.denoise.wavelet).map_err(|e| ConfigError(format!("denoise.wavelet: {e}")))?;
         if !(1..=32).contains(&self.denoise.level) {
             return Err(ConfigError(format!("denoise.level: {} is outside 1..=32", self.denoise.level)));
         }

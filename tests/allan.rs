@@ -8,8 +8,7 @@ use serde_json::Value;
 
 fn golden() -> Value {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/goldens/allan.json");
-    let text =
-        std::fs::read_to_string(path).expect("tests/goldens/allan.json (run tools/goldens/allan_goldens.py)");
+    let text = std::fs::read_to_string(path).expect("tests/goldens/allan.json (run tools/goldens/allan_goldens.py)");
     serde_json::from_str(&text).expect("valid golden JSON")
 }
 
@@ -25,24 +24,16 @@ fn rel_err(a: f64, b: f64) -> f64 {
 fn check_against(name: &str, expected: &Value, got: &AllanDeviation) -> (usize, usize) {
     let tau = floats(&expected["tau_s"]);
     let adev = floats(&expected["adev"]);
-    let ns: Vec<usize> =
-        expected["ns"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap() as usize).collect();
+    let ns: Vec<usize> = expected["ns"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap() as usize).collect();
     // The exact allantools values, as IEEE-754 bit patterns (JSON decimals may parse 1 ulp off).
-    let bits: Vec<u64> =
-        expected["adev_bits"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
+    let bits: Vec<u64> = expected["adev_bits"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
     assert_eq!(got.len(), tau.len(), "{name}: number of taus");
     assert_eq!(got.n, ns, "{name}: number of terms");
     let mut identical = 0;
     for i in 0..tau.len() {
         assert!(rel_err(got.tau_s[i], tau[i]) <= 1e-15, "{name}: tau[{i}] {} vs {}", got.tau_s[i], tau[i]);
         let e = rel_err(got.adev[i], adev[i]);
-        assert!(
-            e <= 1e-9,
-            "{name}: adev at tau {} = {} vs allantools {} (rel {e:e})",
-            tau[i],
-            got.adev[i],
-            adev[i]
-        );
+        assert!(e <= 1e-9, "{name}: adev at tau {} = {} vs allantools {} (rel {e:e})", tau[i], got.adev[i], adev[i]);
         identical += usize::from(got.adev[i].to_bits() == bits[i]);
     }
     (tau.len(), identical)
@@ -113,11 +104,7 @@ fn fit_returns_zero_for_absent_terms() {
     let fit = fit_exact(&truth);
     assert_eq!(fit.active, [false, true, false, true, false]);
     assert_eq!((fit.model.q, fit.model.b, fit.model.r), (0.0, 0.0, 0.0));
-    assert!(
-        rel_err(fit.model.n, truth.n) <= 1e-6 && rel_err(fit.model.k, truth.k) <= 1e-6,
-        "{:?}",
-        fit.model
-    );
+    assert!(rel_err(fit.model.n, truth.n) <= 1e-6 && rel_err(fit.model.k, truth.k) <= 1e-6, "{:?}", fit.model);
 
     let truth = NoiseModel { q: 2e-3, n: 0.0, b: 3e-3, k: 0.0, r: 1e-6 };
     let fit = fit_exact(&truth);
@@ -176,13 +163,7 @@ fn fit_recovers_white_noise_arw() {
         let allan = oadev(&x, fs, &Taus::Octave).unwrap();
         let fit = fit_allan(&allan, Weighting::default()).unwrap();
         let e = rel_err(fit.model.n, truth_n);
-        assert!(
-            e <= 0.05,
-            "seed {seed}: N = {} vs {truth_n} ({:.2} %), fit {:?}",
-            fit.model.n,
-            100.0 * e,
-            fit.model
-        );
+        assert!(e <= 0.05, "seed {seed}: N = {} vs {truth_n} ({:.2} %), fit {:?}", fit.model.n, 100.0 * e, fit.model);
     }
 }
 
@@ -203,11 +184,7 @@ fn compare_weightings_on_white_noise() {
                 worst[k] = worst[k].max(rel_err(fit.model.n, truth_n));
             }
         }
-        eprintln!(
-            "len {len}: worst N error over 20 seeds: n/m {:.3} %, n {:.3} %",
-            100.0 * worst[0],
-            100.0 * worst[1]
-        );
+        eprintln!("len {len}: worst N error over 20 seeds: n/m {:.3} %, n {:.3} %", 100.0 * worst[0], 100.0 * worst[1]);
         if len >= 1 << 16 {
             assert!(worst[0] < 0.05, "n/m weighting: worst N error {:.3} % at {len}", 100.0 * worst[0]);
             assert!(worst[0] < worst[1], "n/m weighting no better than n at {len}");

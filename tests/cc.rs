@@ -117,7 +117,8 @@ fn brute_s(x: &[f64], t_max: usize, radii: &[f64], v: Variant) -> Vec<Vec<Vec<f6
             let count = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).filter(|&(i, j)| within(dist(i, j))).count();
             count as f64 / (n * n) as f64
         } else {
-            let count = (0..n).flat_map(|i| (i + 1..n).map(move |j| (i, j))).filter(|&(i, j)| within(dist(i, j))).count();
+            let count =
+                (0..n).flat_map(|i| (i + 1..n).map(move |j| (i, j))).filter(|&(i, j)| within(dist(i, j))).count();
             2.0 * count as f64 / (n * (n - 1)) as f64
         }
     };
@@ -127,7 +128,8 @@ fn brute_s(x: &[f64], t_max: usize, radii: &[f64], v: Variant) -> Vec<Vec<Vec<f6
             let subs: Vec<Vec<f64>> = (0..t).map(|s| x[s..].iter().step_by(t).take(len).copied().collect()).collect();
             (2..=5)
                 .map(|m| {
-                    let s_of = |&r: &f64| subs.iter().map(|y| c(y, m, r) - c(y, 1, r).powi(m as i32)).sum::<f64>() / t as f64;
+                    let s_of =
+                        |&r: &f64| subs.iter().map(|y| c(y, m, r) - c(y, 1, r).powi(m as i32)).sum::<f64>() / t as f64;
                     radii.iter().map(s_of).collect()
                 })
                 .collect()

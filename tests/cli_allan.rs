@@ -73,8 +73,7 @@ fn json_has_the_documented_keys_and_matches_the_library() {
         json["n_terms"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap() as usize).collect();
     assert_eq!(n_terms, lib.n);
     let lib_fit = fit_allan(&lib.octave_points(), Weighting::default()).unwrap().model;
-    for (key, v) in [("q", lib_fit.q), ("n", lib_fit.n), ("b", lib_fit.b), ("k", lib_fit.k), ("r", lib_fit.r)]
-    {
+    for (key, v) in [("q", lib_fit.q), ("n", lib_fit.n), ("b", lib_fit.b), ("k", lib_fit.k), ("r", lib_fit.r)] {
         assert!(close(fit[key].as_f64().unwrap(), v, 1e-12), "fit.{key}: {} vs {v}", fit[key]);
     }
 }
@@ -101,8 +100,7 @@ fn table_output_names_the_terms_in_both_units() {
     let out = gyrocomp(&["allan", csv.path().to_str().unwrap()]);
     assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
-    for needle in ["tau_s", "adev_dps", "angle random walk", "deg/√h", "deg/h/√h", "deg/h²", "IEEE Std 952"]
-    {
+    for needle in ["tau_s", "adev_dps", "angle random walk", "deg/√h", "deg/h/√h", "deg/h²", "IEEE Std 952"] {
         assert!(text.contains(needle), "missing {needle:?} in:\n{text}");
     }
 }
@@ -148,9 +146,7 @@ fn real_adis16405_matches_published_allan_deviation() {
     assert!(close(adev[0], 0.125, 0.10), "adev(0.1 s) = {}", adev[0]);
     // The bias-instability floor: the first local minimum of the curve. (The last, few-sample
     // octave points at ≥ 800 s dip lower again; they are not the floor the README describes.)
-    let i = (1..adev.len() - 1)
-        .find(|&i| adev[i] <= adev[i - 1] && adev[i] < adev[i + 1])
-        .expect("a local minimum");
+    let i = (1..adev.len() - 1).find(|&i| adev[i] <= adev[i - 1] && adev[i] < adev[i + 1]).expect("a local minimum");
     assert!((50.0..=200.0).contains(&tau[i]), "floor at tau {} s", tau[i]);
     assert!(close(adev[i], 0.0072, 0.10), "floor adev {} at {} s", adev[i], tau[i]);
 }

@@ -68,7 +68,18 @@ fn causal_mode_reports_its_distance_to_batch_and_never_looks_ahead() {
         let input = write_csv(dir.path(), &format!("{name}.csv"), x);
         let output = dir.path().join(format!("{name}-out.csv"));
         let out = gyrocomp()
-            .args(["denoise", input.to_str().unwrap(), "--mode", "causal", "--window", "128", "--lag", "4", "--json", "-o"])
+            .args([
+                "denoise",
+                input.to_str().unwrap(),
+                "--mode",
+                "causal",
+                "--window",
+                "128",
+                "--lag",
+                "4",
+                "--json",
+                "-o",
+            ])
             .arg(&output)
             .output()
             .unwrap();
@@ -104,7 +115,8 @@ fn bad_input_is_reported_with_file_line_and_field() {
 
     let (x, _) = golden_case(1000);
     let input = write_csv(dir.path(), "ok.csv", &x);
-    let out = gyrocomp().args(["denoise", input.to_str().unwrap(), "--mode", "causal", "--window", "40"]).output().unwrap();
+    let out =
+        gyrocomp().args(["denoise", input.to_str().unwrap(), "--mode", "causal", "--window", "40"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("shorter than the minimum 56"));
 }

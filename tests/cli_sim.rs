@@ -80,14 +80,23 @@ fn sim_config_files_and_their_errors() {
     assert_eq!(std::fs::read(&s4).unwrap(), std::fs::read(&s4b).unwrap());
     // Unknown keys are rejected with a message that names the key and the file.
     let bad = dir.path().join("bad.toml");
-    std::fs::write(&bad, "rate_hz = 10.0\nduration_s = 20.0\n[axis]\narw_deg_rt_h = 1.0\nbias_instabilty_b = 3.0\n").unwrap();
-    let out = gyrocomp().args(["sim", "--config", bad.to_str().unwrap(), "-o"]).arg(dir.path().join("x.csv")).output().unwrap();
+    std::fs::write(&bad, "rate_hz = 10.0\nduration_s = 20.0\n[axis]\narw_deg_rt_h = 1.0\nbias_instabilty_b = 3.0\n")
+        .unwrap();
+    let out = gyrocomp()
+        .args(["sim", "--config", bad.to_str().unwrap(), "-o"])
+        .arg(dir.path().join("x.csv"))
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("`bias_instabilty_b`") && stderr.contains("bad.toml"), "{stderr}");
     // An out-of-range value names its key.
     std::fs::write(&bad, "rate_hz = 10.0\nduration_s = 20.0\n[z.quantization]\nstep_dps = -1.0\n").unwrap();
-    let out = gyrocomp().args(["sim", "--config", bad.to_str().unwrap(), "-o"]).arg(dir.path().join("x.csv")).output().unwrap();
+    let out = gyrocomp()
+        .args(["sim", "--config", bad.to_str().unwrap(), "-o"])
+        .arg(dir.path().join("x.csv"))
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("z.quantization.step_dps"));
     // --preset and --config together are refused.

@@ -70,7 +70,9 @@ fn empty_file_and_header_only_are_errors() {
 fn time_must_increase() {
     let err = read("t_s,gx_dps\n0.0,1\n0.2,1\n0.1,1\n", "gx_dps").unwrap_err();
     assert_eq!((err.line, err.field.as_deref()), (Some(4), Some("t_s")));
-    assert!(matches!(err.kind, CsvErrorKind::TimeNotIncreasing { previous, current } if previous == 0.2 && current == 0.1));
+    assert!(
+        matches!(err.kind, CsvErrorKind::TimeNotIncreasing { previous, current } if previous == 0.2 && current == 0.1)
+    );
     let err = read("t_s,gx_dps\n0.0,1\n0.0,1\n", "gx_dps").unwrap_err();
     assert!(matches!(err.kind, CsvErrorKind::TimeNotIncreasing { .. }), "duplicate time: {err}");
 }

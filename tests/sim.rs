@@ -72,16 +72,20 @@ fn unknown_keys_and_bad_values_are_rejected_by_name() {
     for (text, key) in [
         ("rate_hz = 10\nduration_s = 1\nrate = 5\n", "rate"),
         ("rate_hz = 10\nduration_s = 1\n[axis]\narw = 1.0\n", "arw"),
-        ("rate_hz = 10\nduration_s = 1\n[y.bias_instability]\nmodel = \"flicker\"\nb_deg_h = 1\nfloor_from_s = 1\nfloor_to_s = 10\ntau = 3\n", "tau"),
+        (
+            "rate_hz = 10\nduration_s = 1\n[y.bias_instability]\nmodel = \"flicker\"\nb_deg_h = 1\nfloor_from_s = 1\nfloor_to_s = 10\ntau = 3\n",
+            "tau",
+        ),
         ("rate_hz = 10\nduration_s = 1\n[x.quantization]\nstep_dps = 0.1\nmode = \"angel\"\n", "angel"),
         ("rate_hz = 10\nduration_s = 1\n[temperature]\nstart = 20\n", "start"),
     ] {
         let err = SimConfig::from_toml(text).unwrap_err().to_string();
         assert!(err.contains(&format!("`{key}`")), "error for `{key}` does not name it: {err}");
     }
-    let err = SimConfig::from_toml("rate_hz = 10\nduration_s = 1\n[x.warmup]\namplitude_dps = 1\ntime_constant_s = 0\n")
-        .unwrap_err()
-        .to_string();
+    let err =
+        SimConfig::from_toml("rate_hz = 10\nduration_s = 1\n[x.warmup]\namplitude_dps = 1\ntime_constant_s = 0\n")
+            .unwrap_err()
+            .to_string();
     assert!(err.contains("x.warmup.time_constant_s"), "{err}");
     let err = SimConfig::from_toml("rate_hz = -1\nduration_s = 1\n").unwrap_err().to_string();
     assert!(err.contains("rate_hz"), "{err}");
@@ -196,7 +200,11 @@ fn temperature_trajectory_and_hysteresis() {
         1.0,
         4000.0,
         AxisConfig {
-            temperature_coefficient: Some(TemperatureCoefficient { dps_per_c: 0.02, reference_c: 25.0, hysteresis_c: 1.0 }),
+            temperature_coefficient: Some(TemperatureCoefficient {
+                dps_per_c: 0.02,
+                reference_c: 25.0,
+                hysteresis_c: 1.0,
+            }),
             ..AxisConfig::default()
         },
     );
@@ -232,10 +240,7 @@ fn temperature_trajectory_and_hysteresis() {
 
 #[test]
 fn jumps_and_spikes_arrive_at_their_rates() {
-    let axis = AxisConfig {
-        jumps: Some(Jumps { rate_per_h: 36.0, size_dps: 0.1 }),
-        ..AxisConfig::default()
-    };
+    let axis = AxisConfig { jumps: Some(Jumps { rate_per_h: 36.0, size_dps: 0.1 }), ..AxisConfig::default() };
     // 100 h at 1 Hz: 3600 expected jumps per axis (Poisson, σ = 60).
     let out = Generator::generate(&config(1.0, 360_000.0, axis), 3).unwrap();
     for a in &out.axes {
@@ -261,7 +266,11 @@ fn flicker_bank_gives_a_flat_floor_over_the_configured_span() {
     for rate_hz in [1.0, 10.0, 100.0] {
         for (from, to) in [(1.0, 20.0), (1.0, 5000.0), (0.1, 100.0), (10.0, 10_000.0)] {
             let axis = AxisConfig {
-                bias_instability: Some(BiasInstability::Flicker { b_deg_h: 3600.0, floor_from_s: from, floor_to_s: to }),
+                bias_instability: Some(BiasInstability::Flicker {
+                    b_deg_h: 3600.0,
+                    floor_from_s: from,
+                    floor_to_s: to,
+                }),
                 ..AxisConfig::default()
             };
             let m_lo = ((from * rate_hz).ceil() as usize).max(1);
@@ -269,7 +278,11 @@ fn flicker_bank_gives_a_flat_floor_over_the_configured_span() {
             let mut m = m_lo;
             while m <= m_hi {
                 let ratio = axis_adev(&axis, rate_hz, m) / FLICKER_FLOOR;
-                assert!((ratio - 1.0).abs() < 0.02, "fs {rate_hz} span {from}..{to}: τ = {} s gives {ratio}", m as f64 / rate_hz);
+                assert!(
+                    (ratio - 1.0).abs() < 0.02,
+                    "fs {rate_hz} span {from}..{to}: τ = {} s gives {ratio}",
+                    m as f64 / rate_hz
+                );
                 m = (m as f64 * 1.3).ceil() as usize;
             }
         }
@@ -311,7 +324,11 @@ fn generated_terms_match_their_theoretical_allan_deviation() {
         (
             "flicker 0.1..100 s",
             AxisConfig {
-                bias_instability: Some(BiasInstability::Flicker { b_deg_h: 20.0, floor_from_s: 0.1, floor_to_s: 100.0 }),
+                bias_instability: Some(BiasInstability::Flicker {
+                    b_deg_h: 20.0,
+                    floor_from_s: 0.1,
+                    floor_to_s: 100.0,
+                }),
                 ..AxisConfig::default()
             },
         ),

@@ -14,7 +14,9 @@
 use gyrocomp::diag::allan::{Taus, oadev};
 use gyrocomp::diag::noise_fit::{Weighting, fit_allan};
 use gyrocomp::diag::noise_model::NoiseModel;
-use gyrocomp::sim::{AxisConfig, BiasInstability, Generator, Quantization, QuantizationMode, SimConfig, TemperatureConfig};
+use gyrocomp::sim::{
+    AxisConfig, BiasInstability, Generator, Quantization, QuantizationMode, SimConfig, TemperatureConfig,
+};
 
 fn config(rate_hz: f64, samples: usize, axis: AxisConfig) -> SimConfig {
     SimConfig {

@@ -191,8 +191,7 @@ fn write_table(
         "tau_s", "m", "adev_dps", "adev_err", "n", "fit_adev_dps"
     )?;
     for i in 0..allan.len() {
-        let model =
-            fit.map_or(String::from("-"), |f| format!("{:.6e}", f.model.allan_deviation(allan.tau_s[i])));
+        let model = fit.map_or(String::from("-"), |f| format!("{:.6e}", f.model.allan_deviation(allan.tau_s[i])));
         writeln!(
             out,
             "{:>14.6} {:>10} {:>14.6e} {:>12.3e} {:>10} {:>14}",
@@ -214,17 +213,9 @@ fn write_table(
         fit.rms_relative_residual
     )?;
     writeln!(out, "  Q  quantisation      {:>12.4e} deg", m.q)?;
-    writeln!(
-        out,
-        "  N  angle random walk {:>12.4e} deg/√s      = {:>12.4e} deg/√h",
-        m.n, c.n_deg_per_sqrt_h
-    )?;
+    writeln!(out, "  N  angle random walk {:>12.4e} deg/√s      = {:>12.4e} deg/√h", m.n, c.n_deg_per_sqrt_h)?;
     writeln!(out, "  B  bias instability  {:>12.4e} deg/s       = {:>12.4e} deg/h", m.b, c.b_deg_per_h)?;
-    writeln!(
-        out,
-        "  K  rate random walk  {:>12.4e} deg/s/√s    = {:>12.4e} deg/h/√h",
-        m.k, c.k_deg_per_h_sqrt_h
-    )?;
+    writeln!(out, "  K  rate random walk  {:>12.4e} deg/s/√s    = {:>12.4e} deg/h/√h", m.k, c.k_deg_per_h_sqrt_h)?;
     writeln!(out, "  R  rate ramp         {:>12.4e} deg/s²      = {:>12.4e} deg/h²", m.r, c.r_deg_per_h2)?;
     Ok(())
 }

@@ -61,7 +61,8 @@ pub fn run(args: &CcArgs) -> Result<(), CliError> {
         x.truncate(args.max_points);
     }
     let config = CcConfig { t_max: args.t_max, threads: 0 };
-    let result = cc_method(&x, &config).map_err(|e| format!("{}: column {}: {e}", args.input.display(), args.column))?;
+    let result =
+        cc_method(&x, &config).map_err(|e| format!("{}: column {}: {e}", args.input.display(), args.column))?;
     tracing::debug!("C-C method on {} points, t = 1..={}, in {:.2?}", x.len(), args.t_max, started.elapsed());
     if args.json {
         let out = CcJson {
@@ -103,7 +104,10 @@ fn table(args: &CcArgs, r: &CcResult, points: usize, rate_hz: f64) -> String {
             (false, true) => "  ← τw",
             (false, false) => "",
         };
-        s.push_str(&format!("{t:>4} {:>14.6e} {:>14.6e} {:>14.6e}{mark}\n", r.s_mean[i], r.delta_s_mean[i], r.s_cor[i]));
+        s.push_str(&format!(
+            "{t:>4} {:>14.6e} {:>14.6e} {:>14.6e}{mark}\n",
+            r.s_mean[i], r.delta_s_mean[i], r.s_cor[i]
+        ));
     }
     let rule = match r.tau_rule {
         TauRule::FirstLocalMinimum => "first local minimum of ΔS̄",

@@ -183,7 +183,10 @@ fn sweep(x: &[f64], batch: &[f64], config: &DenoiseConfig, json: bool) -> Result
     let raw = rmse(x, batch);
     let shift = shift_variance(x, batch, config);
     if json {
-        println!("{}", serde_json::json!({ "rmse_raw_vs_batch": raw, "rmse_batch_shifted_vs_batch": shift, "rows": rows }));
+        println!(
+            "{}",
+            serde_json::json!({ "rmse_raw_vs_batch": raw, "rmse_batch_shifted_vs_batch": shift, "rows": rows })
+        );
     } else {
         println!("RMSE of the raw series against batch (no denoising at all): {raw:.3e} deg/s");
         let mean = shift.iter().sum::<f64>() / shift.len().max(1) as f64;

@@ -143,12 +143,22 @@ fn print_table(info: &DataInfo, rows: &[ModelRow]) {
     );
     println!();
     println!("Prediction of the denoised drift (paper Table 1; normalised units and deg/s):");
-    println!("{:<12} {:>10} {:>10} {:>9} {:>11} {:>11} {:>9}  detail", "model", "MAE", "RMSE", "ARE", "MAE dps", "RMSE dps", "train s");
+    println!(
+        "{:<12} {:>10} {:>10} {:>9} {:>11} {:>11} {:>9}  detail",
+        "model", "MAE", "RMSE", "ARE", "MAE dps", "RMSE dps", "train s"
+    );
     for r in rows {
         let s = &r.scores;
         println!(
             "{:<12} {:>10.5} {:>10.5} {:>8.2}% {:>11.3e} {:>11.3e} {:>9.3}  {}",
-            r.name.name(), s.mae_norm, s.rmse_norm, 100.0 * s.are, s.mae_dps, s.rmse_dps, r.train_s, r.detail
+            r.name.name(),
+            s.mae_norm,
+            s.rmse_norm,
+            100.0 * s.are,
+            s.mae_dps,
+            s.rmse_dps,
+            r.train_s,
+            r.detail
         );
     }
     println!();
@@ -158,7 +168,11 @@ fn print_table(info: &DataInfo, rows: &[ModelRow]) {
         let s = &r.scores;
         println!(
             "{:<12} {:>12.3e} {:>12.3e} {:>12.3e} {:>12.3e}",
-            r.name.name(), s.std_drift_before, s.std_drift_after, s.std_raw_before, s.std_raw_after
+            r.name.name(),
+            s.std_drift_before,
+            s.std_drift_after,
+            s.std_raw_before,
+            s.std_raw_after
         );
     }
 }

@@ -26,7 +26,11 @@ pub fn load_series(path: &Path, column: &str, rate_override: Option<f64>) -> Res
     let rate_hz = match rate_override {
         Some(r) => r,
         None if t_s.len() >= 2 => (t_s.len() - 1) as f64 / (t_s[t_s.len() - 1] - t_s[0]),
-        None => return Err(format!("{}: one sample is not enough to know the sample rate; pass --rate", path.display()).into()),
+        None => {
+            return Err(
+                format!("{}: one sample is not enough to know the sample rate; pass --rate", path.display()).into()
+            );
+        }
     };
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(format!("{}: sample rate {rate_hz} Hz is not positive and finite", path.display()).into());

@@ -83,7 +83,11 @@ pub fn run(args: &MotionArgs) -> Result<(), CliError> {
     let others: Vec<&str> = header.iter().map(String::as_str).filter(|h| Some(*h) != time_name).collect();
     for reserved in ["truth_dps", "moving"] {
         if others.contains(&reserved) {
-            return Err(format!("{}: already has a `{reserved}` column (motion injected twice?)", args.input.display()).into());
+            return Err(format!(
+                "{}: already has a `{reserved}` column (motion injected twice?)",
+                args.input.display()
+            )
+            .into());
         }
     }
     let targets: Vec<String> = if args.columns.is_empty() {
@@ -92,7 +96,11 @@ pub fn run(args: &MotionArgs) -> Result<(), CliError> {
         args.columns.clone()
     };
     if targets.is_empty() {
-        return Err(format!("{}: no gx_dps/gy_dps/gz_dps column; name the rate columns with --columns", args.input.display()).into());
+        return Err(format!(
+            "{}: no gx_dps/gy_dps/gz_dps column; name the rate columns with --columns",
+            args.input.display()
+        )
+        .into());
     }
     if let Some(missing) = targets.iter().find(|t| !others.contains(&t.as_str())) {
         return Err(format!("{}: no column `{missing}` (columns: {})", args.input.display(), header.join(", ")).into());

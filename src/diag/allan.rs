@@ -133,12 +133,7 @@ pub fn oadev(rate: &[f64], rate_hz: f64, taus: &Taus) -> Result<AllanDeviation, 
 
 /// [`oadev`] with the averaging factor capped at `max_m` samples (allantools `maximum_m`), which
 /// bounds the cost of [`Taus::All`] to ≈ N·max_m operations.
-pub fn oadev_with_max_m(
-    rate: &[f64],
-    rate_hz: f64,
-    taus: &Taus,
-    max_m: usize,
-) -> Result<AllanDeviation, AllanError> {
+pub fn oadev_with_max_m(rate: &[f64], rate_hz: f64, taus: &Taus, max_m: usize) -> Result<AllanDeviation, AllanError> {
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(AllanError::BadRate(rate_hz));
     }
@@ -212,12 +207,7 @@ pub fn oadev_phase_at(phase: &[f64], rate_hz: f64, m: usize) -> Option<(f64, usi
 
 /// The sorted, de-duplicated averaging factors m of `taus` for `samples` rate samples, following
 /// allantools `tau_generator` on the (samples + 1)-point phase: 0 < m < samples + 1 and m ≤ max_m.
-pub fn averaging_factors(
-    samples: usize,
-    rate_hz: f64,
-    taus: &Taus,
-    max_m: usize,
-) -> Result<Vec<usize>, AllanError> {
+pub fn averaging_factors(samples: usize, rate_hz: f64, taus: &Taus, max_m: usize) -> Result<Vec<usize>, AllanError> {
     let phase_len = samples + 1;
     let mut factors: Vec<usize> = match taus {
         // allantools: maxn = floor(log2(len(phase))); taus = 2^k/rate, k = 0..=maxn.
@@ -307,14 +297,8 @@ mod tests {
             oadev(&[1.0, f64::NAN, 2.0, 3.0], 1.0, &Taus::Octave),
             Err(AllanError::NonFinite { index: 1, .. })
         ));
-        assert_eq!(
-            oadev(&[1.0; 10], 1.0, &Taus::Seconds(vec![f64::INFINITY])),
-            Err(AllanError::BadTau(f64::INFINITY))
-        );
-        assert!(matches!(
-            oadev(&[1.0; 10], 1.0, &Taus::Factors(vec![])),
-            Err(AllanError::TooFewSamples { .. })
-        ));
+        assert_eq!(oadev(&[1.0; 10], 1.0, &Taus::Seconds(vec![f64::INFINITY])), Err(AllanError::BadTau(f64::INFINITY)));
+        assert!(matches!(oadev(&[1.0; 10], 1.0, &Taus::Factors(vec![])), Err(AllanError::TooFewSamples { .. })));
     }
 
     #[test]

@@ -119,11 +119,7 @@ pub fn fit_allan(allan: &AllanDeviation, weighting: Weighting) -> Result<NoiseFi
 /// positive and finite are left out.
 pub fn fit_noise_model(tau_s: &[f64], adev: &[f64], weights: &[f64]) -> Result<NoiseFit, NoiseFitError> {
     if tau_s.len() != adev.len() || tau_s.len() != weights.len() {
-        return Err(NoiseFitError::LengthMismatch {
-            tau: tau_s.len(),
-            adev: adev.len(),
-            weights: weights.len(),
-        });
+        return Err(NoiseFitError::LengthMismatch { tau: tau_s.len(), adev: adev.len(), weights: weights.len() });
     }
     let keep: Vec<usize> = (0..tau_s.len())
         .filter(|&i| {
@@ -235,18 +231,9 @@ mod tests {
     #[test]
     fn bad_input_is_an_error() {
         assert_eq!(fit_noise_model(&[], &[], &[]), Err(NoiseFitError::NoUsablePoints));
-        assert_eq!(
-            fit_noise_model(&[1.0, 2.0], &[0.0, 0.0], &[5.0, 3.0]),
-            Err(NoiseFitError::NoUsablePoints)
-        );
-        assert_eq!(
-            fit_noise_model(&[1.0, 2.0], &[0.1, 0.1], &[0.0, f64::NAN]),
-            Err(NoiseFitError::NoUsablePoints)
-        );
-        assert!(matches!(
-            fit_noise_model(&[1.0], &[1.0, 2.0], &[1.0]),
-            Err(NoiseFitError::LengthMismatch { .. })
-        ));
+        assert_eq!(fit_noise_model(&[1.0, 2.0], &[0.0, 0.0], &[5.0, 3.0]), Err(NoiseFitError::NoUsablePoints));
+        assert_eq!(fit_noise_model(&[1.0, 2.0], &[0.1, 0.1], &[0.0, f64::NAN]), Err(NoiseFitError::NoUsablePoints));
+        assert!(matches!(fit_noise_model(&[1.0], &[1.0, 2.0], &[1.0]), Err(NoiseFitError::LengthMismatch { .. })));
         // Points with zero deviation are skipped, the rest still fit.
         assert!(fit_noise_model(&[1.0, 2.0], &[0.0, 0.5], &[5.0, 3.0]).is_ok());
     }

@@ -39,8 +39,16 @@ pub enum ModelKind {
 
 impl ModelKind {
     /// Every model, paper models first.
-    pub const ALL: [Self; 8] =
-        [Self::CpsoLssvm, Self::Lssvm, Self::BpAnn, Self::Persistence, Self::Ar, Self::Mean, Self::BiasHold, Self::LinearPsr];
+    pub const ALL: [Self; 8] = [
+        Self::CpsoLssvm,
+        Self::Lssvm,
+        Self::BpAnn,
+        Self::Persistence,
+        Self::Ar,
+        Self::Mean,
+        Self::BiasHold,
+        Self::LinearPsr,
+    ];
 
     /// The name used on the command line and in JSON.
     pub fn name(self) -> &'static str {
@@ -125,7 +133,14 @@ pub fn run_model(kind: ModelKind, data: &Prepared, options: &ModelOptions) -> Re
             config.cpso.seed = options.seed;
             let (model, p, s) = fit_and_predict(&config, data)?;
             hyper = (Some(model.gamma), Some(model.sigma2));
-            (p, s, format!("{:?}, {} CPSO evaluations, held-out fitness {:.4}", model.solver, model.evaluations, model.fitness))
+            (
+                p,
+                s,
+                format!(
+                    "{:?}, {} CPSO evaluations, held-out fitness {:.4}",
+                    model.solver, model.evaluations, model.fitness
+                ),
+            )
         }
         ModelKind::Lssvm => {
             let config = LssvmConfig { gamma: options.gamma, sigma2: options.sigma2, embedding: options.embedding };

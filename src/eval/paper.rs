@@ -51,7 +51,9 @@ pub enum ProtocolError {
 impl fmt::Display for ProtocolError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::TooShort { need, have } => write!(f, "the paper protocol needs at least {need} samples, the series has {have}"),
+            Self::TooShort { need, have } => {
+                write!(f, "the paper protocol needs at least {need} samples, the series has {have}")
+            }
             Self::Invalid(msg) => f.write_str(msg),
         }
     }

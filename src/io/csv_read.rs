@@ -64,18 +64,15 @@ impl fmt::Display for CsvErrorKind {
             Self::Io(e) => write!(f, "cannot read: {e}"),
             Self::Empty => write!(f, "empty file: a header line is required"),
             Self::NoData => write!(f, "no data rows after the header"),
-            Self::MissingColumn { wanted, available } => write!(
-                f,
-                "column `{wanted}` not found; the header has: {}",
-                available.join(", ")
-            ),
+            Self::MissingColumn { wanted, available } => {
+                write!(f, "column `{wanted}` not found; the header has: {}", available.join(", "))
+            }
             Self::MissingField { found } => write!(f, "missing: the row has only {found} field(s)"),
             Self::BadNumber(text) => write!(f, "not a number: {text:?}"),
             Self::NonFinite(text) => write!(f, "not a finite number: {text:?}"),
-            Self::TimeNotIncreasing { previous, current } => write!(
-                f,
-                "time does not increase: {current} s follows {previous} s"
-            ),
+            Self::TimeNotIncreasing { previous, current } => {
+                write!(f, "time does not increase: {current} s follows {previous} s")
+            }
             Self::Malformed(msg) => write!(f, "malformed CSV: {msg}"),
         }
     }
@@ -179,18 +176,14 @@ impl SampleReader<File> {
 
 impl<R: Read> SampleReader<R> {
     /// Wraps any reader; `label` names it in error messages.
-    pub fn from_reader(
-        input: R,
-        label: &Path,
-        columns: &[&str],
-        options: ReadOptions,
-    ) -> Result<Self, CsvError> {
+    pub fn from_reader(input: R, label: &Path, columns: &[&str], options: ReadOptions) -> Result<Self, CsvError> {
         let path = label.to_path_buf();
         let mut reader = BufReader::with_capacity(1 << 16, input);
         let mut line_buf = Vec::with_capacity(256);
         let mut line_no = 0;
         let mut fields = Fields::default();
-        let io_err = |path: &Path, line, e| CsvError { path: path.to_path_buf(), line, field: None, kind: CsvErrorKind::Io(e) };
+        let io_err =
+            |path: &Path, line, e| CsvError { path: path.to_path_buf(), line, field: None, kind: CsvErrorKind::Io(e) };
         // The header is the first non-blank line.
         loop {
             line_buf.clear();
@@ -213,10 +206,8 @@ impl<R: Read> SampleReader<R> {
             .map(|i| String::from_utf8_lossy(fields.get(i).unwrap_or_default()).into_owned())
             .collect();
         let find = |wanted: &str| names.iter().position(|n| n == wanted);
-        let (time_idx, time_name) = TIME_COLUMN_NAMES
-            .iter()
-            .find_map(|&n| find(n).map(|i| (i, n.to_owned())))
-            .ok_or_else(|| {
+        let (time_idx, time_name) =
+            TIME_COLUMN_NAMES.iter().find_map(|&n| find(n).map(|i| (i, n.to_owned()))).ok_or_else(|| {
                 header_err(CsvErrorKind::MissingColumn {
                     wanted: TIME_COLUMN_NAMES.join("` or `"),
                     available: names.clone(),
@@ -226,10 +217,7 @@ impl<R: Read> SampleReader<R> {
             .iter()
             .map(|&c| {
                 find(c).ok_or_else(|| {
-                    header_err(CsvErrorKind::MissingColumn {
-                        wanted: c.to_owned(),
-                        available: names.clone(),
-                    })
+                    header_err(CsvErrorKind::MissingColumn { wanted: c.to_owned(), available: names.clone() })
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
@@ -297,11 +285,7 @@ impl<R: Read> SampleReader<R> {
             && let Some(previous) = self.previous_t
             && t_s <= previous
         {
-            return Err(self.error(
-                line,
-                self.time_idx,
-                CsvErrorKind::TimeNotIncreasing { previous, current: t_s },
-            ));
+            return Err(self.error(line, self.time_idx, CsvErrorKind::TimeNotIncreasing { previous, current: t_s }));
         }
         self.previous_t = Some(t_s);
         for k in 0..self.value_idx.len() {

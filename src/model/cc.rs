@@ -271,9 +271,7 @@ fn choose_tau(delta_s_mean: &[f64], s_mean: &[f64]) -> (usize, TauRule) {
     if let Some(k) = local {
         return (k + 1, TauRule::FirstLocalMinimum);
     }
-    let zero = (0..s_mean.len()).find(|&k| {
-        s_mean[k] == 0.0 || (k >= 1 && (s_mean[k - 1] < 0.0) != (s_mean[k] < 0.0))
-    });
+    let zero = (0..s_mean.len()).find(|&k| s_mean[k] == 0.0 || (k >= 1 && (s_mean[k - 1] < 0.0) != (s_mean[k] < 0.0)));
     if let Some(k) = zero {
         return (k + 1, TauRule::FirstZeroCrossing);
     }

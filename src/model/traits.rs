@@ -49,7 +49,9 @@ pub enum FitError {
 impl fmt::Display for FitError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::TooFewSamples { need, have } => write!(f, "training series too short: need {need} samples, have {have}"),
+            Self::TooFewSamples { need, have } => {
+                write!(f, "training series too short: need {need} samples, have {have}")
+            }
             Self::NonFinite => write!(f, "training series holds NaN or infinite values"),
             Self::Numerical(msg) => write!(f, "numerical failure: {msg}"),
             Self::InvalidConfig(msg) => write!(f, "invalid model configuration: {msg}"),

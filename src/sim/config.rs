@@ -332,10 +332,16 @@ impl AxisConfig {
     }
 
     fn validate(&self, name: &str) -> Result<(), ConfigError> {
-        let bad = |key: &str, problem: &str| ConfigError::Invalid { key: format!("{name}.{key}"), problem: problem.to_owned() };
+        let bad = |key: &str, problem: &str| ConfigError::Invalid {
+            key: format!("{name}.{key}"),
+            problem: problem.to_owned(),
+        };
         let finite = |key: &str, v: f64| if v.is_finite() { Ok(()) } else { Err(bad(key, "must be finite")) };
-        let non_negative = |key: &str, v: f64| if v.is_finite() && v >= 0.0 { Ok(()) } else { Err(bad(key, "must be finite and ≥ 0")) };
-        let positive = |key: &str, v: f64| if v.is_finite() && v > 0.0 { Ok(()) } else { Err(bad(key, "must be finite and > 0")) };
+        let non_negative = |key: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 { Ok(()) } else { Err(bad(key, "must be finite and ≥ 0")) }
+        };
+        let positive =
+            |key: &str, v: f64| if v.is_finite() && v > 0.0 { Ok(()) } else { Err(bad(key, "must be finite and > 0")) };
         if let Some(v) = self.bias_dps {
             finite("bias_dps", v)?;
         }
@@ -398,7 +404,8 @@ impl AxisConfig {
 impl SimConfig {
     /// Parses a TOML document (unknown keys are errors that name the key and its line).
     pub fn from_toml(text: &str) -> Result<Self, ConfigError> {
-        let config: SimConfig = toml::from_str(text).map_err(|e| ConfigError::Toml(e.to_string().trim_end().to_owned()))?;
+        let config: SimConfig =
+            toml::from_str(text).map_err(|e| ConfigError::Toml(e.to_string().trim_end().to_owned()))?;
         config.validate()?;
         Ok(config)
     }
@@ -445,7 +452,10 @@ impl SimConfig {
         }
         for (i, r) in t.ramps.iter().enumerate() {
             if !(r.start_s.is_finite() && r.delta_c.is_finite() && r.duration_s.is_finite() && r.duration_s >= 0.0) {
-                return Err(bad(&format!("temperature.ramps[{i}]"), "start_s, delta_c must be finite and duration_s ≥ 0"));
+                return Err(bad(
+                    &format!("temperature.ramps[{i}]"),
+                    "start_s, delta_c must be finite and duration_s ≥ 0",
+                ));
             }
         }
         self.axis.validate("axis")?;

@@ -121,10 +121,8 @@ impl AxisGenerator {
             .map(|s| Spikes::new(s.rate_per_h / 3600.0, s.size_dps, Stream::new(seed, axis, StreamId::Spikes)));
         let n = model.arw_deg_rt_s();
         let white = (n > 0.0).then(|| White::new(n * rate_hz.sqrt(), Stream::new(seed, axis, StreamId::White)));
-        let quantiser = model
-            .quantization
-            .as_ref()
-            .map(|q| Quantiser::new(q.step_dps, q.mode == QuantizationMode::Angle));
+        let quantiser =
+            model.quantization.as_ref().map(|q| Quantiser::new(q.step_dps, q.mode == QuantizationMode::Angle));
         Self {
             bias: model.bias_dps.unwrap_or(0.0),
             processes,

@@ -2,8 +2,8 @@
 //! the two equal), so a preset is a starting point for a config file.
 
 use super::config::{
-    AxisConfig, BiasInstability, Quantization, QuantizationMode, SimConfig, TemperatureCoefficient,
-    TemperatureConfig, Warmup,
+    AxisConfig, BiasInstability, Quantization, QuantizationMode, SimConfig, TemperatureCoefficient, TemperatureConfig,
+    Warmup,
 };
 
 /// A named simulator configuration.
