@@ -1,6 +1,9 @@
 //! Integration tests of the overlapping Allan deviation (against allantools goldens) and of the
 //! IEEE Std 952-1997 Annex C noise-term fit.
 
+mod common;
+
+use common::floats;
 use gyrocomp::diag::allan::{AllanDeviation, Taus, oadev};
 use gyrocomp::diag::noise_fit::{NoiseFit, Weighting, fit_allan, fit_noise_model};
 use gyrocomp::diag::noise_model::NoiseModel;
@@ -10,10 +13,6 @@ fn golden() -> Value {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/goldens/allan.json");
     let text = std::fs::read_to_string(path).expect("tests/goldens/allan.json (run tools/goldens/allan_goldens.py)");
     serde_json::from_str(&text).expect("valid golden JSON")
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).collect()
 }
 
 fn rel_err(a: f64, b: f64) -> f64 {

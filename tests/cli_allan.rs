@@ -1,10 +1,13 @@
 //! Tests of the `gyrocomp allan` command line: JSON shape, agreement with the library, errors,
 //! and (when the shared recordings are present) the published Allan deviation of a real gyro.
 
+mod common;
+
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Output};
 
+use common::floats;
 use gyrocomp::diag::allan::{Taus, oadev};
 use gyrocomp::diag::noise_fit::{Weighting, fit_allan};
 use serde_json::Value;
@@ -34,10 +37,6 @@ fn write_csv(x: &[f64], fs: f64) -> tempfile::NamedTempFile {
     }
     file.flush().unwrap();
     file
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).collect()
 }
 
 fn close(a: f64, b: f64, rel: f64) -> bool {

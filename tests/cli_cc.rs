@@ -1,10 +1,13 @@
 //! `gyrocomp cc` end to end: JSON shape, agreement with the library, and a run on the real
 //! ADIS16405 recording when ../shared/data is present.
 
+mod common;
+
 use std::io::Write;
 use std::path::Path;
 use std::process::Command;
 
+use common::floats;
 use gyrocomp::model::cc::{CcConfig, cc_method};
 use gyrocomp::wavelet::{DenoiseConfig, denoise_batch};
 use serde_json::Value;
@@ -44,10 +47,6 @@ fn run_json(path: &Path, extra: &[&str]) -> Value {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.starts_with(r#"{"tau":"#), "JSON starts with tau: {text}");
     serde_json::from_str(&text).expect("one JSON object")
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).collect()
 }
 
 fn assert_matches_library(json: &Value, x: &[f64], t_max: usize) {

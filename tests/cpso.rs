@@ -5,6 +5,9 @@
 //! beside persistence): `cargo test --release --test cpso -- --ignored --nocapture real_data`
 //! (with `GYROCOMP_EXACT_TUNING=1` it also tunes over the exact LS-SVM, about two minutes).
 
+mod common;
+
+use common::paper_group;
 use gyrocomp::model::cpso::chaos::chaotic_candidates;
 use gyrocomp::model::cpso::{CpsoConfig, CpsoError, minimize};
 use gyrocomp::model::lssvm::{CpsoLssvm, Fitness, LssvmConfig, Solver};
@@ -188,31 +191,14 @@ fn train_mae_fitness_rewards_overfitting() {
     assert!(mae_test > hold_test, "test RMSE: Eq. 13 choice {mae_test}, held-out choice {hold_test}");
 }
 
-/// The paper's first group (§4.3) on real data; see tests/lssvm.rs for the same loader.
-fn paper_group() -> Option<(Vec<f64>, gyrocomp::model::scaler::MinMaxScaler)> {
-    use gyrocomp::wavelet::{DenoiseConfig, denoise_batch};
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/real/adis16405_run1_10hz.csv");
-    let Ok(text) = std::fs::read_to_string(path) else {
-        eprintln!("SKIP: {path} not found (the real recordings live outside the repository)");
-        return None;
-    };
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next()?.split(',').collect();
-    let col = header.iter().position(|h| *h == "gx_dps")?;
-    let raw: Vec<f64> = lines.take(5021).map(|l| l.split(',').nth(col).unwrap().parse().unwrap()).collect();
-    let (mut x, _) = denoise_batch(&raw, &DenoiseConfig::paper());
-    let scaler = gyrocomp::model::scaler::MinMaxScaler::fit(&x[..Embedding::PAPER.history() + 4000])?;
-    scaler.transform_in_place(&mut x);
-    Some((x, scaler))
-}
-
 /// Real-data figures: default CpsoLssvm on the paper's first group (4000 training rows, 1000
 /// test rows), beside persistence, the paper's fixed (γ, σ²) and CPSO over the exact LS-SVM.
 #[test]
 #[ignore = "measurement (seconds in release; GYROCOMP_EXACT_TUNING=1 adds minutes): --ignored --nocapture"]
 fn real_data_paper_group() {
     use std::time::Instant;
-    let Some((x, scaler)) = paper_group() else { return };
+    let Some(group) = paper_group() else { return };
+    let (x, scaler) = (group.normalised, group.scaler);
     let train_len = Embedding::PAPER.history() + 4000;
     let y = &x[train_len..];
     let rmse = |p: &[f64]| (p.iter().zip(y).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() / p.len() as f64).sqrt();

@@ -5,33 +5,26 @@
 //! The ignored test `mp_table` measures the m_p-vs-accuracy-vs-time table on real data:
 //! `cargo test --release --test lssvm -- --ignored --nocapture mp_table`.
 
+mod common;
+
 use std::time::Instant;
 
+use common::{floats, golden, paper_group};
 use gyrocomp::model::lssvm::{
     LssvmConfig, NystromConfig, NystromProblem, PrototypeSelection, select_prototypes, solve_exact,
 };
-use gyrocomp::model::scaler::MinMaxScaler;
 use gyrocomp::model::{Fit, predict_from};
 use gyrocomp::stream::embed::Embedding;
-use gyrocomp::wavelet::{DenoiseConfig, denoise_batch};
-use serde_json::Value;
 
 const TOL: f64 = 1e-8;
 
-fn floats(v: &Value) -> Vec<f64> {
-    v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).collect()
-}
-
 fn assert_close(got: &[f64], want: &[f64], what: &str) {
-    assert_eq!(got.len(), want.len(), "{what}: length");
-    let worst = got.iter().zip(want).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-    assert!(worst <= TOL, "{what}: max abs difference {worst:e} > {TOL:e}");
+    common::assert_close(got, want, TOL, what);
 }
 
 #[test]
 fn exact_lssvm_matches_the_numpy_reference() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/goldens/lssvm.json");
-    let g: Value = serde_json::from_str(&std::fs::read_to_string(path).expect("golden file")).expect("valid JSON");
+    let g = golden("lssvm.json");
     let series = floats(&g["series"]);
     let embedding = Embedding { tau: g["tau"].as_u64().unwrap() as usize, dim: g["dim"].as_u64().unwrap() as usize };
     let n_train = g["n_train"].as_u64().unwrap() as usize;
@@ -122,26 +115,6 @@ fn nystrom_error_falls_as_prototypes_grow() {
     assert!(last < 1e-3, "m_p = 256 still {last:e} from exact");
 }
 
-/// The first group of the paper (§4.3) on real data: `gx_dps` of run 1 at 10 Hz, first 5021
-/// samples, denoised (db4, 3 levels), scaled to [−1, 1] on the samples the first 4000 PSR rows
-/// use. Returns (normalised series, scaler); `None` when the shared data folder is absent.
-fn paper_group() -> Option<(Vec<f64>, MinMaxScaler)> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/real/adis16405_run1_10hz.csv");
-    let Ok(text) = std::fs::read_to_string(path) else {
-        eprintln!("SKIP: {path} not found (the real recordings live outside the repository)");
-        return None;
-    };
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next()?.split(',').collect();
-    let col = header.iter().position(|h| *h == "gx_dps")?;
-    let raw: Vec<f64> = lines.take(5021).map(|l| l.split(',').nth(col).unwrap().parse().unwrap()).collect();
-    let (mut x, _) = denoise_batch(&raw, &DenoiseConfig::paper());
-    let train_len = Embedding::PAPER.history() + 4000;
-    let scaler = MinMaxScaler::fit(&x[..train_len])?;
-    scaler.transform_in_place(&mut x);
-    Some((x, scaler))
-}
-
 fn rmse(p: &[f64], y: &[f64]) -> f64 {
     (p.iter().zip(y).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() / p.len() as f64).sqrt()
 }
@@ -151,7 +124,8 @@ fn rmse(p: &[f64], y: &[f64]) -> f64 {
 #[test]
 #[ignore = "measurement (seconds in release): run with --ignored --nocapture"]
 fn mp_table() {
-    let Some((x, _)) = paper_group() else { return };
+    let Some(group) = paper_group() else { return };
+    let x = group.normalised;
     let e = Embedding::PAPER;
     let train_len = e.history() + 4000;
     let train = &x[..train_len];
@@ -177,7 +151,8 @@ fn mp_table() {
 
 #[test]
 fn nystrom_at_n_4000_is_within_one_percent_of_exact_on_real_data() {
-    let Some((x, _)) = paper_group() else { return };
+    let Some(group) = paper_group() else { return };
+    let x = group.normalised;
     let e = Embedding::PAPER;
     let train_len = e.history() + 4000;
     let y = &x[train_len..];
