@@ -6,7 +6,9 @@ use std::fmt;
 
 use serde::Deserialize;
 
-use crate::stream::{CausalConfig, Embedding};
+use crate::model::cpso::CpsoConfig;
+use crate::model::lssvm::CpsoLssvm;
+use crate::stream::{CausalConfig, Embedding, InputConfig, MotionConfig, PipelineConfig, RetrainMode, RetrainSchedule};
 use crate::wavelet::{DenoiseConfig, Wavelet};
 
 /// Default causal window (samples): see the trade-off table in the README.
@@ -22,6 +24,118 @@ pub struct Config {
     pub denoise: DenoiseSection,
     /// `[embedding]`: phase-space reconstruction.
     pub embedding: EmbeddingSection,
+    /// `[pipeline]`: per-sample compensation.
+    pub pipeline: PipelineSection,
+    /// `[motion]`: motion gate thresholds.
+    pub motion: MotionSection,
+    /// `[input]`: input validation and gap detection.
+    pub input: InputSection,
+    /// `[retrain]`: background retraining and its model.
+    pub retrain: RetrainSection,
+}
+
+/// `[pipeline]` keys.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PipelineSection {
+    /// Static samples averaged by the bias estimate used before the first model.
+    pub bias_samples: u64,
+}
+
+impl Default for PipelineSection {
+    fn default() -> Self {
+        Self { bias_samples: 1000 }
+    }
+}
+
+/// `[motion]` keys.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MotionSection {
+    /// |rate| above which a sample is moving, deg/s.
+    pub rate_dps: f64,
+    /// Short-window variance above which a sample is moving, (deg/s)².
+    pub variance_dps2: f64,
+    /// Samples in the variance window.
+    pub window: usize,
+}
+
+impl Default for MotionSection {
+    fn default() -> Self {
+        Self { rate_dps: 1.0, variance_dps2: 0.05, window: 20 }
+    }
+}
+
+/// `[input]` keys.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InputSection {
+    /// Largest accepted |rate|, deg/s.
+    pub range_dps: f64,
+    /// Nominal sample rate, Hz.
+    pub rate_hz: f64,
+    /// A timestamp step above this many nominal periods is a gap.
+    pub gap_factor: f64,
+}
+
+impl Default for InputSection {
+    fn default() -> Self {
+        Self { range_dps: 2000.0, rate_hz: 100.0, gap_factor: 3.0 }
+    }
+}
+
+/// `[retrain]` keys.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RetrainSection {
+    /// `deterministic` (every `every_samples`, applied after `apply_delay_samples`) or `live`
+    /// (every `interval_s` of wall time, applied when ready).
+    pub mode: String,
+    /// Static denoised samples per axis in a training window.
+    pub window: usize,
+    /// Deterministic mode: input samples between requests.
+    pub every_samples: u64,
+    /// Live mode: seconds between requests.
+    pub interval_s: f64,
+    /// Deterministic mode: samples between a request and its model's application.
+    pub apply_delay_samples: u64,
+    /// Fewest static samples per axis for a request.
+    pub min_samples: usize,
+    /// Largest number of training rows solved exactly; above, the fixed-size LS-SVM.
+    pub exact_max_rows: usize,
+    /// Prototypes m_p of the fixed-size LS-SVM.
+    pub prototypes: usize,
+    /// CPSO chaotic candidates M.
+    pub cpso_candidates: usize,
+    /// CPSO particles N.
+    pub cpso_particles: usize,
+    /// CPSO iterations t_max.
+    pub cpso_iterations: usize,
+    /// CPSO seed.
+    pub seed: u64,
+    /// Threads for the CPSO fitness evaluations (0 = all cores).
+    pub threads: usize,
+}
+
+impl Default for RetrainSection {
+    fn default() -> Self {
+        let cpso = CpsoConfig::default();
+        Self {
+            mode: "live".into(),
+            window: 4000,
+            every_samples: 6000,
+            interval_s: 60.0,
+            apply_delay_samples: 1000,
+            min_samples: 500,
+            exact_max_rows: 1000,
+            prototypes: 100,
+            cpso_candidates: cpso.candidates,
+            cpso_particles: cpso.particles,
+            cpso_iterations: cpso.iterations,
+            seed: 0,
+            threads: 1,
+        }
+    }
 }
 
 /// `[denoise]` keys.
@@ -89,7 +203,108 @@ impl Config {
         if self.embedding.dim == 0 {
             return Err(ConfigError("embedding.dim must be at least 1".into()));
         }
+        self.pipeline()?;
         Ok(())
+    }
+
+    /// The pipeline settings of `[denoise]`, `[embedding]`, `[pipeline]`, `[motion]`, `[input]`
+    /// and `[retrain]`, validated.
+    pub fn pipeline(&self) -> Result<PipelineConfig, ConfigError> {
+        fn err<T>(m: String) -> Result<T, ConfigError> {
+            Err(ConfigError(m))
+        }
+        let positive = |key: &str, v: f64| {
+            if v > 0.0 && v.is_finite() { Ok(()) } else { err(format!("{key}: {v} must be positive and finite")) }
+        };
+        if self.pipeline.bias_samples == 0 {
+            return err("pipeline.bias_samples must be at least 1".into());
+        }
+        let m = &self.motion;
+        positive("motion.rate_dps", m.rate_dps)?;
+        positive("motion.variance_dps2", m.variance_dps2)?;
+        if m.window < 2 {
+            return err(format!("motion.window: {} must be at least 2", m.window));
+        }
+        let i = &self.input;
+        positive("input.range_dps", i.range_dps)?;
+        positive("input.rate_hz", i.rate_hz)?;
+        if !(i.gap_factor > 1.0 && i.gap_factor.is_finite()) {
+            return err(format!("input.gap_factor: {} must be finite and above 1", i.gap_factor));
+        }
+        let r = &self.retrain;
+        let mode = match r.mode.as_str() {
+            "deterministic" => RetrainMode::Deterministic,
+            "live" => RetrainMode::Live,
+            other => return err(format!("retrain.mode: {other:?} is neither \"deterministic\" nor \"live\"")),
+        };
+        let embedding = self.embedding();
+        if r.window < embedding.history() + 3 {
+            return err(format!(
+                "retrain.window: {} is shorter than the embedding needs ({})",
+                r.window,
+                embedding.history() + 3
+            ));
+        }
+        if r.every_samples == 0 {
+            return err("retrain.every_samples must be at least 1".into());
+        }
+        positive("retrain.interval_s", r.interval_s)?;
+        if r.min_samples > r.window {
+            return err(format!("retrain.min_samples: {} exceeds retrain.window {}", r.min_samples, r.window));
+        }
+        self.cpso_lssvm()?;
+        Ok(PipelineConfig {
+            causal: self.causal_denoise()?,
+            embedding,
+            bias_samples: self.pipeline.bias_samples,
+            motion: MotionConfig { rate_dps: m.rate_dps, variance_dps2: m.variance_dps2, window: m.window },
+            input: InputConfig {
+                range_dps: i.range_dps,
+                period_ns: (1e9 / i.rate_hz).round().max(1.0) as u64,
+                gap_factor: i.gap_factor,
+            },
+            retrain: RetrainSchedule {
+                mode,
+                window: r.window,
+                every_samples: r.every_samples,
+                interval_s: r.interval_s,
+                apply_delay_samples: r.apply_delay_samples,
+                min_samples: r.min_samples,
+            },
+        })
+    }
+
+    /// The retrainer's CPSO-LSSVM (paper §2.2) from `[retrain]` and `[embedding]`; the other
+    /// settings are [`CpsoLssvm::default`].
+    pub fn cpso_lssvm(&self) -> Result<CpsoLssvm, ConfigError> {
+        let r = &self.retrain;
+        if r.prototypes == 0 {
+            return Err(ConfigError("retrain.prototypes must be at least 1".into()));
+        }
+        if r.cpso_particles == 0 || r.cpso_candidates < r.cpso_particles {
+            return Err(ConfigError(format!(
+                "retrain.cpso_particles/retrain.cpso_candidates: need 1 <= particles <= candidates, got {} and {}",
+                r.cpso_particles, r.cpso_candidates
+            )));
+        }
+        if r.cpso_iterations == 0 {
+            return Err(ConfigError("retrain.cpso_iterations must be at least 1".into()));
+        }
+        let cpso = CpsoConfig {
+            candidates: r.cpso_candidates,
+            particles: r.cpso_particles,
+            iterations: r.cpso_iterations,
+            seed: r.seed,
+            threads: r.threads,
+            ..CpsoConfig::default()
+        };
+        Ok(CpsoLssvm {
+            embedding: self.embedding(),
+            cpso,
+            exact_max_rows: r.exact_max_rows,
+            prototypes: r.prototypes,
+            ..CpsoLssvm::default()
+        })
     }
 
     /// The batch denoiser settings of `[denoise]`.
@@ -139,6 +354,25 @@ mod tests {
         assert!(err.0.contains("denoise.window/denoise.lag"), "{err}");
         let err = Config::from_toml("[embedding]\ntau = 0\n", "x.toml").unwrap_err();
         assert!(err.0.contains("embedding.tau"), "{err}");
+        for (text, key) in [
+            ("[retrain]\nmode = \"sometimes\"\n", "retrain.mode"),
+            ("[retrain]\nwindow = 10\n", "retrain.window"),
+            ("[retrain]\nevery_samples = 0\n", "retrain.every_samples"),
+            ("[retrain]\nmin_samples = 5000\n", "retrain.min_samples"),
+            ("[retrain]\ncpso_particles = 0\n", "retrain.cpso_particles"),
+            ("[retrain]\nprototypes = 0\n", "retrain.prototypes"),
+            ("[retrain]\ninterval_s = 0.0\n", "retrain.interval_s"),
+            ("[motion]\nwindow = 1\n", "motion.window"),
+            ("[motion]\nrate_dps = -1.0\n", "motion.rate_dps"),
+            ("[input]\ngap_factor = 0.5\n", "input.gap_factor"),
+            ("[input]\nrate_hz = 0.0\n", "input.rate_hz"),
+            ("[pipeline]\nbias_samples = 0\n", "pipeline.bias_samples"),
+            ("[retrain]\nwindw = 4000\n", "windw"),
+            ("[motion]\nthreshold = 1.0\n", "threshold"),
+        ] {
+            let err = Config::from_toml(text, "x.toml").unwrap_err();
+            assert!(err.0.contains(key), "{text}: {err}");
+        }
     }
 
     #[test]

@@ -1,0 +1,394 @@
+//! The per-sample pipeline shared by the daemon, the replay tool and `gyrocomp compensate`
+//! (design.md "One pipeline, three drivers"): input check → gap check → motion gate → drift
+//! forecast → compensation → causal denoise → static history, for three axes, plus the retrain
+//! schedule.
+//!
+//! Per sample t and axis (paper method: db4 denoising, PSR Eq. 15–16, scaler Eq. 21, LSSVM):
+//! - **Accepted static sample**: drift d[t] is the model's forecast of the denoised series at t
+//!   made from static denoised samples up to x̃[t−1−L] (L = denoiser lag), iterating the
+//!   one-step model L + 1 times (see [`ModelSlot`](super::ModelSlot)); before a model exists,
+//!   the running static bias estimate (status bit 0). Output = raw − d[t]. Then x[t] enters the
+//!   denoiser, the denoised history and the bias estimate. The output at t uses x[t] only
+//!   through "raw −": the drift estimate uses samples before t.
+//! - **Moving sample** (motion gate or publisher flag): the drift is the drift of the last static
+//!   sample, held (status bit 1); the forecast horizon counts samples since that static sample.
+//!   Holding is chosen over iterating the model further: an iterated LS-SVM drifts to its fixed
+//!   point within tens of steps, while the drift itself changes slowly. The sample enters no
+//!   denoiser, history or training buffer, so the static series is concatenated across motion.
+//! - **Rejected sample** (any axis NaN/Inf or |rate| > `input.range_dps`; status bit 2): enters no
+//!   buffer. Per axis, a finite in-range rate is output as raw − current drift; a bad one as the
+//!   last accepted compensated value (0 before any). Never NaN.
+//! - **Gap** (t_ns step above `gap_factor` nominal periods, or backwards; status bit 3): flagged
+//!   and counted; the buffers are kept, i.e. the static series is concatenated across the gap
+//!   like across motion (drift is slow; only PSR rows straddling the seam are affected).
+//!
+//! Retraining: see [`RetrainSchedule`]. Requests are made after sample index i when due, with
+//! snapshots of the training windows; in deterministic mode the result is installed right before
+//! sample `i + apply_delay_samples` (waiting for the trainer if necessary); in live mode at the
+//! first sample after it arrives. A request due while another is pending is skipped and counted.
+//!
+//! No heap allocation per sample: buffers are allocated in [`Pipeline::new`]; only retrain
+//! requests (every `every_samples`) copy the windows (tests/pipeline.rs counts allocations).
+
+use std::fmt;
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::axis::AxisState;
+use super::causal_denoise::CausalConfig;
+use super::embed::Embedding;
+use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
+use super::motion_gate::{MotionConfig, MotionGate};
+use super::retrain::{RetrainMode, RetrainSchedule, SendError, TrainRequest, TrainResult, Trainer};
+use super::sample::{
+    FLAG_MOVING, InputSample, OutputSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED,
+};
+use crate::model::scaler::MinMaxScaler;
+
+/// Input validation and gap detection (`[input]` in the configuration).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InputConfig {
+    /// Largest accepted |rate|, deg/s (the sensor's range).
+    pub range_dps: f64,
+    /// Nominal sample period, ns.
+    pub period_ns: u64,
+    /// A t_ns step above `gap_factor · period_ns` is a gap.
+    pub gap_factor: f64,
+}
+
+/// Everything the pipeline needs (built from [`crate::config::Config::pipeline`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PipelineConfig {
+    /// Causal denoiser of each axis.
+    pub causal: CausalConfig,
+    /// PSR embedding of the models (sets the least history kept).
+    pub embedding: Embedding,
+    /// Samples the running static bias estimate averages (used before the first model).
+    pub bias_samples: u64,
+    /// Motion gate thresholds.
+    pub motion: MotionConfig,
+    /// Input validation and gaps.
+    pub input: InputConfig,
+    /// Retrain schedule (used once a trainer is attached).
+    pub retrain: RetrainSchedule,
+}
+
+/// Counters of what the pipeline has done.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PipelineStats {
+    /// Samples processed.
+    pub samples: u64,
+    /// Rejected samples (status bit 2).
+    pub rejected: u64,
+    /// Moving samples (status bit 1).
+    pub moving: u64,
+    /// Gaps detected (status bit 3).
+    pub gaps: u64,
+    /// Retrain requests sent.
+    pub retrain_requests: u64,
+    /// Retrain requests skipped because the previous one was still running.
+    pub retrain_skipped: u64,
+    /// Retrain requests not sent for want of static samples (< `min_samples`).
+    pub retrain_starved: u64,
+    /// Fits that failed (the old model was kept).
+    pub retrain_failed: u64,
+    /// Successful retrains installed.
+    pub models_installed: u64,
+}
+
+/// Why a pipeline could not be built or a model installed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PipelineError {
+    /// A configuration value is unusable; the message names it.
+    Config(String),
+    /// Axis index not in 0..3.
+    NoSuchAxis(usize),
+    /// The model needs more history than the pipeline keeps.
+    HistoryTooLong {
+        /// Samples the model reads.
+        need: usize,
+        /// Samples kept.
+        kept: usize,
+    },
+}
+
+impl fmt::Display for PipelineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Config(m) => f.write_str(m),
+            Self::NoSuchAxis(a) => write!(f, "axis {a} does not exist (0, 1, 2)"),
+            Self::HistoryTooLong { need, kept } => {
+                write!(f, "model reads {need} samples of history, the pipeline keeps {kept}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for PipelineError {}
+
+/// A retrain request waiting for its result.
+#[derive(Debug, Clone, Copy)]
+struct Pending {
+    request_index: u64,
+}
+
+/// The per-sample compensation pipeline for three axes.
+#[derive(Debug)]
+pub struct Pipeline {
+    config: PipelineConfig,
+    axes: [AxisState; 3],
+    gate: MotionGate,
+    prev_t_ns: Option<u64>,
+    /// Samples since the last accepted static sample (0 while static).
+    horizon: u64,
+    next_version: u64,
+    stats: PipelineStats,
+    trainer: Option<Trainer>,
+    pending: Option<Pending>,
+    last_request: Instant,
+}
+
+impl Pipeline {
+    /// Builds the pipeline; every per-sample buffer is allocated here.
+    pub fn new(config: PipelineConfig) -> Result<Self, PipelineError> {
+        config.causal.validate().map_err(|e| PipelineError::Config(format!("denoise.window/denoise.lag: {e}")))?;
+        let history = config.retrain.window.max(config.embedding.history());
+        let axis = || {
+            AxisState::new(config.causal.clone(), history, config.bias_samples)
+                .map_err(|e| PipelineError::Config(e.to_string()))
+        };
+        let axes = [axis()?, axis()?, axis()?];
+        Ok(Self {
+            gate: MotionGate::new(config.motion),
+            axes,
+            config,
+            prev_t_ns: None,
+            horizon: 0,
+            next_version: 1,
+            stats: PipelineStats::default(),
+            trainer: None,
+            pending: None,
+            last_request: Instant::now(),
+        })
+    }
+
+    /// Attaches a background trainer; from now on retraining follows `config.retrain`.
+    pub fn attach_trainer(&mut self, trainer: Trainer) {
+        self.trainer = Some(trainer);
+        self.pending = None;
+        self.last_request = Instant::now();
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &PipelineConfig {
+        &self.config
+    }
+
+    /// Counters.
+    pub fn stats(&self) -> PipelineStats {
+        self.stats
+    }
+
+    /// Forecast horizon: samples since the last accepted static sample (0 while static).
+    pub fn horizon(&self) -> u64 {
+        self.horizon
+    }
+
+    /// Version of the newest model installed on any axis (0 = none).
+    pub fn model_version(&self) -> u64 {
+        self.axes.iter().map(|a| a.slot.version()).max().unwrap_or(0)
+    }
+
+    /// The model slot of an axis, for installing from another thread.
+    pub fn model_slot(&self, axis: usize) -> Option<Arc<ModelSlot>> {
+        self.axes.get(axis).map(|a| Arc::clone(&a.slot))
+    }
+
+    /// Installs a model (normalised units) and the scaler of its training window on one axis.
+    pub fn install_model(
+        &mut self,
+        axis: usize,
+        model: SharedModel,
+        scaler: MinMaxScaler,
+        version: u64,
+    ) -> Result<(), PipelineError> {
+        let a = self.axes.get(axis).ok_or(PipelineError::NoSuchAxis(axis))?;
+        let (need, kept) = (model.history_len(), a.max_model_history());
+        if need > kept {
+            return Err(PipelineError::HistoryTooLong { need, kept });
+        }
+        a.slot.install(InstalledModel { model, scaler, version });
+        self.next_version = self.next_version.max(version + 1);
+        Ok(())
+    }
+
+    /// The training window of one axis: the last `retrain.window` static denoised samples
+    /// (raw units, oldest first); empty for a bad axis index.
+    pub fn training_window(&self, axis: usize) -> Vec<f64> {
+        self.axes.get(axis).map_or_else(Vec::new, |a| {
+            let h = a.history.as_slice();
+            h[h.len().saturating_sub(self.config.retrain.window)..].to_vec()
+        })
+    }
+
+    /// The three training windows.
+    pub fn training_windows(&self) -> [Vec<f64>; 3] {
+        [self.training_window(0), self.training_window(1), self.training_window(2)]
+    }
+
+    /// Processes one sample and returns its output (never NaN, same `seq`).
+    pub fn process(&mut self, input: &InputSample) -> OutputSample {
+        self.poll_trainer();
+        let out = self.compensate(input);
+        self.stats.samples += 1;
+        self.maybe_request();
+        out
+    }
+
+    fn compensate(&mut self, input: &InputSample) -> OutputSample {
+        let mut status = 0;
+        if let Some(prev) = self.prev_t_ns {
+            let limit = self.config.input.gap_factor * self.config.input.period_ns as f64;
+            if input.t_ns <= prev || (input.t_ns - prev) as f64 > limit {
+                status |= STATUS_GAP;
+                self.stats.gaps += 1;
+            }
+        }
+        self.prev_t_ns = Some(input.t_ns);
+        let range = self.config.input.range_dps;
+        let good = |r: f64| r.is_finite() && r.abs() <= range;
+        let mut rate = [0.0; 3];
+        let mut drift = [0.0; 3];
+        if !input.rate_dps.iter().all(|&r| good(r)) {
+            status |= STATUS_REJECTED;
+            self.stats.rejected += 1;
+            for (k, a) in self.axes.iter().enumerate() {
+                let r = input.rate_dps[k];
+                drift[k] = a.drift;
+                rate[k] = if good(r) { r - a.drift } else { a.comp };
+                if a.slot.load().is_none() {
+                    status |= STATUS_NO_MODEL;
+                }
+            }
+        } else if self.gate.push(&input.rate_dps, input.flags & FLAG_MOVING != 0) {
+            status |= STATUS_MOVING;
+            self.stats.moving += 1;
+            self.horizon += 1;
+            for (k, a) in self.axes.iter_mut().enumerate() {
+                drift[k] = a.drift;
+                rate[k] = input.rate_dps[k] - a.drift;
+                a.comp = rate[k];
+                if a.slot.load().is_none() {
+                    status |= STATUS_NO_MODEL;
+                }
+            }
+        } else {
+            self.horizon = 0;
+            for (k, a) in self.axes.iter_mut().enumerate() {
+                let (d, by_model) = a.forecast();
+                if !by_model {
+                    status |= STATUS_NO_MODEL;
+                }
+                let r = input.rate_dps[k];
+                a.drift = d;
+                a.comp = r - d;
+                drift[k] = d;
+                rate[k] = a.comp;
+                a.push_static(r);
+            }
+        }
+        OutputSample {
+            seq: input.seq,
+            t_ns: input.t_ns,
+            rate_dps: rate,
+            drift_dps: drift,
+            model_version: self.model_version(),
+            status,
+        }
+    }
+
+    /// Applies a finished retrain: deterministic mode at exactly `request + apply_delay`
+    /// (waiting if needed), live mode whenever one has arrived.
+    fn poll_trainer(&mut self) {
+        let (Some(trainer), Some(pending)) = (&self.trainer, self.pending) else { return };
+        let result = match self.config.retrain.mode {
+            RetrainMode::Deterministic => {
+                if self.stats.samples < pending.request_index + self.config.retrain.apply_delay_samples {
+                    return;
+                }
+                trainer.recv()
+            }
+            RetrainMode::Live => match trainer.try_recv() {
+                Ok(Some(r)) => Some(r),
+                Ok(None) => return,
+                Err(()) => None,
+            },
+        };
+        self.pending = None;
+        match result {
+            Some(r) => self.apply(r),
+            None => {
+                tracing::error!("retrain thread stopped; keeping the current models");
+                self.trainer = None;
+            }
+        }
+    }
+
+    fn apply(&mut self, result: TrainResult) {
+        match result.outcome {
+            Ok(fitted) => {
+                let version = self.next_version;
+                for (axis, f) in fitted.into_iter().enumerate() {
+                    if let Err(e) = self.install_model(axis, f.model, f.scaler, version) {
+                        tracing::warn!(axis, error = %e, "retrained model refused; keeping the old one");
+                    }
+                }
+                self.stats.models_installed += 1;
+                tracing::info!(
+                    version,
+                    request_index = result.request_index,
+                    at = self.stats.samples,
+                    "model installed"
+                );
+            }
+            Err(why) => {
+                self.stats.retrain_failed += 1;
+                tracing::warn!(request_index = result.request_index, %why, "retrain failed; keeping the old model");
+            }
+        }
+    }
+
+    fn maybe_request(&mut self) {
+        let Some(trainer) = &self.trainer else { return };
+        let s = &self.config.retrain;
+        let due = match s.mode {
+            RetrainMode::Deterministic => s.every_samples > 0 && self.stats.samples.is_multiple_of(s.every_samples),
+            RetrainMode::Live => self.last_request.elapsed().as_secs_f64() >= s.interval_s,
+        };
+        if !due {
+            return;
+        }
+        self.last_request = Instant::now();
+        if self.pending.is_some() {
+            self.stats.retrain_skipped += 1;
+            tracing::debug!(at = self.stats.samples, "retrain due while the previous one runs: skipped");
+            return;
+        }
+        if self.axes.iter().any(|a| a.history.len().min(s.window) < s.min_samples) {
+            self.stats.retrain_starved += 1;
+            return;
+        }
+        let request = TrainRequest { request_index: self.stats.samples, windows: self.training_windows() };
+        match trainer.try_send(request) {
+            Ok(()) => {
+                self.stats.retrain_requests += 1;
+                self.pending = Some(Pending { request_index: self.stats.samples });
+            }
+            Err(SendError::Busy) => self.stats.retrain_skipped += 1,
+            Err(SendError::Stopped) => {
+                tracing::error!("retrain thread stopped; keeping the current models");
+                self.trainer = None;
+            }
+        }
+    }
+}
