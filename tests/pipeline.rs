@@ -1,0 +1,304 @@
+//! Integration tests of the per-sample `Pipeline` and its background `Trainer` on simulated data
+//! (`gyrocomp::sim`, paper preset, 10 Hz).
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use gyrocomp::config::Config;
+use gyrocomp::model::baselines::{LinearPsr, Mean};
+use gyrocomp::model::lssvm::CpsoLssvm;
+use gyrocomp::model::scaler::MinMaxScaler;
+use gyrocomp::model::{Fit, FitError};
+use gyrocomp::sim::{Generator, Preset};
+use gyrocomp::stream::{
+    FLAG_MOVING, InputSample, OutputSample, Pipeline, PipelineConfig, RetrainMode, STATUS_GAP, STATUS_MOVING,
+    STATUS_NO_MODEL, STATUS_REJECTED, Trainer,
+};
+
+const PERIOD_NS: u64 = 100_000_000; // 10 Hz
+
+/// Pipeline settings for the 10 Hz paper preset with a short training window.
+fn config() -> PipelineConfig {
+    let mut c = Config::default();
+    c.input.rate_hz = 10.0;
+    c.retrain.window = 600;
+    c.retrain.min_samples = 300;
+    c.retrain.mode = "deterministic".into();
+    c.retrain.every_samples = 1000;
+    c.retrain.apply_delay_samples = 100;
+    c.pipeline().unwrap()
+}
+
+/// `n` simulated static samples (seq = index, uniform timestamps).
+fn samples(n: usize, seed: u64) -> Vec<InputSample> {
+    let mut sim = Preset::Paper.config();
+    sim.duration_s = n as f64 / sim.rate_hz;
+    let out = Generator::generate(&sim, seed).unwrap();
+    (0..n)
+        .map(|k| {
+            let rate = [out.axes[0].raw[k], out.axes[1].raw[k], out.axes[2].raw[k]];
+            InputSample { temp_c: out.temp_c[k], ..InputSample::new(k as u64, k as u64 * PERIOD_NS, rate) }
+        })
+        .collect()
+}
+
+fn run(p: &mut Pipeline, input: &[InputSample]) -> Vec<OutputSample> {
+    input.iter().map(|s| p.process(s)).collect()
+}
+
+fn finite(o: &OutputSample) -> bool {
+    o.rate_dps.iter().chain(&o.drift_dps).all(|v| v.is_finite())
+}
+
+/// A pipeline with a deterministic linear-PSR retrainer (cheap, reads the history).
+fn retraining_pipeline(cfg: PipelineConfig) -> Pipeline {
+    let mut p = Pipeline::new(cfg).unwrap();
+    p.attach_trainer(Trainer::spawn(LinearPsr::default()).unwrap());
+    p
+}
+
+#[test]
+fn one_finite_output_per_input_in_order() {
+    let input = samples(3000, 1);
+    let out = run(&mut retraining_pipeline(config()), &input);
+    assert_eq!(out.len(), input.len());
+    for (i, o) in input.iter().zip(&out) {
+        assert_eq!((o.seq, o.t_ns), (i.seq, i.t_ns));
+        assert!(finite(o), "{o:?}");
+        assert_eq!(o.status & (STATUS_REJECTED | STATUS_MOVING | STATUS_GAP), 0);
+    }
+    assert!(out[0].status & STATUS_NO_MODEL != 0);
+    assert!(out.last().unwrap().status & STATUS_NO_MODEL == 0);
+}
+
+#[test]
+fn outputs_never_depend_on_future_samples() {
+    let input = samples(2500, 2);
+    let base = run(&mut retraining_pipeline(config()), &input);
+    for change in [500, 1500, 2200] {
+        let mut other = input.clone();
+        other[change].rate_dps[1] += 0.05;
+        let changed = run(&mut retraining_pipeline(config()), &other);
+        assert_eq!(base[..change], changed[..change], "change at {change}");
+        assert_ne!(base[change..], changed[change..]);
+    }
+}
+
+#[test]
+fn bad_input_is_flagged_substituted_and_kept_out_of_the_buffers() {
+    let clean = samples(2000, 3);
+    let mut dirty = Vec::new();
+    let bad = [f64::NAN, f64::INFINITY, -1e5, f64::NEG_INFINITY];
+    for (k, s) in clean.iter().enumerate() {
+        dirty.push(*s);
+        if k % 97 == 50 {
+            let mut b = *s;
+            b.seq += 1_000_000;
+            b.t_ns += PERIOD_NS / 2;
+            b.rate_dps[k % 3] = bad[k % 4];
+            dirty.push(b);
+        }
+    }
+    let mut pc = Pipeline::new(config()).unwrap();
+    let mut pd = Pipeline::new(config()).unwrap();
+    let model = Mean.fit(&[0.0]).unwrap();
+    for p in [&mut pc, &mut pd] {
+        p.install_model(0, Arc::new(model), MinMaxScaler { min: -0.01, max: 0.01 }, 1).unwrap();
+    }
+    let oc = run(&mut pc, &clean);
+    let od = run(&mut pd, &dirty);
+    assert_eq!(od.len(), dirty.len());
+    let mut good = oc.iter();
+    for (i, o) in dirty.iter().zip(&od) {
+        assert!(finite(o), "{o:?}");
+        assert_eq!(o.seq, i.seq);
+        if i.seq >= 1_000_000 {
+            assert!(o.status & STATUS_REJECTED != 0);
+        } else {
+            assert_eq!(o, good.next().unwrap(), "a rejected sample changed a later output");
+        }
+    }
+    assert_eq!(pd.stats().rejected, dirty.len() as u64 - clean.len() as u64);
+    assert_eq!(pc.training_windows(), pd.training_windows());
+    assert!(pd.training_windows().iter().flatten().all(|v| v.is_finite()));
+}
+
+#[test]
+fn motion_is_flagged_held_counted_and_kept_out_of_training() {
+    let clean = samples(2500, 4);
+    let (start, len) = (1200, 150);
+    let mut moving = clean.clone();
+    for s in &mut moving[start..start + len / 2] {
+        s.flags |= FLAG_MOVING;
+    }
+    // The second half is a real rotation, found by the rate threshold.
+    for s in &mut moving[start + len / 2..start + len] {
+        s.rate_dps[2] += 30.0;
+    }
+    let mut p = retraining_pipeline(config());
+    let mut horizons = Vec::new();
+    let out: Vec<OutputSample> = moving
+        .iter()
+        .map(|s| {
+            let o = p.process(s);
+            horizons.push(p.horizon());
+            o
+        })
+        .collect();
+    let before = out[start - 1];
+    for k in start..start + len {
+        assert!(out[k].status & STATUS_MOVING != 0, "sample {k}");
+        assert_eq!(out[k].drift_dps, before.drift_dps, "drift is held during motion");
+        assert_eq!(horizons[k], (k - start + 1) as u64);
+        assert!(finite(&out[k]));
+    }
+    // The variance window keeps the gate closed a little after the rotation.
+    let end = (start + len..moving.len()).find(|&k| out[k].status & STATUS_MOVING == 0).unwrap();
+    assert!(end <= start + len + 20, "gate reopened at {end}");
+    assert_eq!(horizons[end], 0);
+    // Training data equal those of the static samples alone.
+    let mut q = retraining_pipeline(config());
+    let kept: Vec<InputSample> =
+        clean.iter().enumerate().filter(|(k, _)| *k < start || *k >= end).map(|(_, s)| *s).collect();
+    run(&mut q, &kept);
+    assert_eq!(p.training_windows(), q.training_windows());
+    assert_eq!(p.stats().moving, (end - start) as u64);
+}
+
+#[test]
+fn gaps_are_flagged() {
+    let mut input = samples(400, 5);
+    for s in &mut input[200..] {
+        s.t_ns += 10 * PERIOD_NS;
+    }
+    input[300].t_ns = input[299].t_ns; // no progress (the step to 301 is then two periods: no gap)
+    let out = run(&mut Pipeline::new(config()).unwrap(), &input);
+    let gaps: Vec<usize> = (0..out.len()).filter(|&k| out[k].status & STATUS_GAP != 0).collect();
+    assert_eq!(gaps, vec![200, 300]);
+}
+
+#[test]
+fn installing_a_model_changes_version_and_output() {
+    let input = samples(800, 6);
+    let mut a = Pipeline::new(config()).unwrap();
+    let mut b = Pipeline::new(config()).unwrap();
+    run(&mut a, &input[..500]);
+    run(&mut b, &input[..500]);
+    assert_eq!(a.model_version(), 0);
+    let scaler = MinMaxScaler { min: -1.0, max: 1.0 };
+    for axis in 0..3 {
+        b.install_model(axis, Arc::new(Mean.fit(&[0.5]).unwrap()), scaler, 42).unwrap();
+    }
+    assert!(b.install_model(3, Arc::new(Mean.fit(&[0.5]).unwrap()), scaler, 1).is_err());
+    let oa = a.process(&input[500]);
+    let ob = b.process(&input[500]);
+    assert_eq!((oa.model_version, ob.model_version), (0, 42));
+    assert!(oa.status & STATUS_NO_MODEL != 0 && ob.status & STATUS_NO_MODEL == 0);
+    assert_eq!(ob.drift_dps, [0.5; 3]);
+    assert_eq!(ob.rate_dps[0], input[500].rate_dps[0] - 0.5);
+    assert_ne!(oa.rate_dps, ob.rate_dps);
+}
+
+#[test]
+fn deterministic_retraining_swaps_at_a_fixed_index_and_repeats_exactly() {
+    let input = samples(3500, 7);
+    let first = run(&mut retraining_pipeline(config()), &input);
+    let second = run(&mut retraining_pipeline(config()), &input);
+    assert_eq!(first, second);
+    // Requests after samples 1000, 2000, 3000; applied 100 samples later.
+    let version_at = |k: usize| first[k].model_version;
+    assert_eq!((version_at(1099), version_at(1100)), (0, 1));
+    assert_eq!((version_at(2099), version_at(2100)), (1, 2));
+    assert_eq!((version_at(3099), version_at(3100)), (2, 3));
+    assert!(first[1099].status & STATUS_NO_MODEL != 0 && first[1100].status & STATUS_NO_MODEL == 0);
+}
+
+#[test]
+fn a_retrain_due_while_one_is_pending_is_skipped_and_counted() {
+    let mut cfg = config();
+    cfg.retrain.every_samples = 500;
+    cfg.retrain.apply_delay_samples = 700;
+    let mut p = retraining_pipeline(cfg);
+    run(&mut p, &samples(3000, 8));
+    // Due after samples 500, 1000, …, 3000 (six times).
+    let s = p.stats();
+    assert_eq!(s.retrain_requests + s.retrain_skipped + s.retrain_starved, 6);
+    // Requests at 500, 1500, 2500 (applied at 1200, 2200); skipped at 1000, 2000, 3000.
+    assert_eq!((s.retrain_requests, s.retrain_skipped, s.models_installed), (3, 3, 2));
+}
+
+/// A fit that sleeps, to keep the trainer busy in live mode.
+#[derive(Clone, Copy)]
+struct Slow;
+impl Fit for Slow {
+    type Model = <Mean as Fit>::Model;
+    fn fit(&self, train: &[f64]) -> Result<Self::Model, FitError> {
+        std::thread::sleep(Duration::from_millis(30));
+        Mean.fit(train)
+    }
+}
+
+#[test]
+fn live_mode_never_waits_and_counts_skips() {
+    let mut cfg = config();
+    cfg.retrain.mode = RetrainMode::Live;
+    cfg.retrain.interval_s = 1e-4;
+    let mut p = Pipeline::new(cfg).unwrap();
+    p.attach_trainer(Trainer::spawn(Slow).unwrap());
+    let input = samples(1500, 9);
+    let started = std::time::Instant::now();
+    run(&mut p, &input);
+    let s = p.stats();
+    assert!(s.retrain_skipped > 0, "{s:?}");
+    assert!(s.retrain_requests >= 1, "{s:?}");
+    // Fits take 90 ms each; the run must not have waited for all of them.
+    assert!(started.elapsed() < Duration::from_millis(90) * s.retrain_requests as u32 + Duration::from_secs(5));
+    // Let the trainer finish, then the next sample installs its model.
+    std::thread::sleep(Duration::from_millis(300));
+    p.process(&InputSample::new(9999, input.last().unwrap().t_ns + PERIOD_NS, [0.0; 3]));
+    assert!(p.model_version() >= 1);
+}
+
+/// A fit that always fails.
+struct Failing;
+impl Fit for Failing {
+    type Model = <Mean as Fit>::Model;
+    fn fit(&self, _: &[f64]) -> Result<Self::Model, FitError> {
+        Err(FitError::Numerical("deliberate failure".into()))
+    }
+}
+
+#[test]
+fn a_failing_fit_keeps_the_old_model() {
+    let mut p = Pipeline::new(config()).unwrap();
+    let scaler = MinMaxScaler { min: -1.0, max: 1.0 };
+    for axis in 0..3 {
+        p.install_model(axis, Arc::new(Mean.fit(&[0.001]).unwrap()), scaler, 5).unwrap();
+    }
+    p.attach_trainer(Trainer::spawn(Failing).unwrap());
+    let out = run(&mut p, &samples(2500, 10));
+    let s = p.stats();
+    assert_eq!((s.retrain_requests, s.retrain_failed, s.models_installed), (2, 2, 0));
+    assert!(out.iter().all(|o| o.model_version == 5 && o.status & STATUS_NO_MODEL == 0 && o.drift_dps == [0.001; 3]));
+}
+
+#[test]
+fn cpso_lssvm_retrainer_installs_a_fixed_size_model() {
+    let mut cfg = config();
+    cfg.retrain.window = 1500; // fixed-size LS-SVM path (> exact_max_rows after embedding)
+    cfg.retrain.every_samples = 2000;
+    cfg.retrain.min_samples = 1500;
+    let mut c = Config::default();
+    c.retrain.exact_max_rows = 1000;
+    c.retrain.cpso_candidates = 6;
+    c.retrain.cpso_particles = 3;
+    c.retrain.cpso_iterations = 3;
+    let fit: CpsoLssvm = c.cpso_lssvm().unwrap();
+    let mut p = Pipeline::new(cfg).unwrap();
+    p.attach_trainer(Trainer::spawn(fit).unwrap());
+    let input = samples(2600, 11);
+    let out = run(&mut p, &input);
+    assert_eq!(out[2099].model_version, 0);
+    assert_eq!(out[2100].model_version, 1);
+    assert!(out[2100..].iter().all(|o| o.status & STATUS_NO_MODEL == 0 && finite(o)));
+}
