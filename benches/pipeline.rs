@@ -1,1 +1,126 @@
-fn main() {}
+//! Criterion benchmark of the per-sample `Pipeline` (issue 5): cost of `Pipeline::process` for
+//! three axes with a fitted fixed-size CPSO-LSSVM (retrain window 4000, m_p = 100, default CPSO)
+//! installed on every axis, static samples (the model path: denoise + L + 1 = 6 iterated
+//! predictions per axis). Beside it, in the same run: `baseline_denoise_push_w256`, one
+//! `CausalDenoiser::push` (the default window), and `process_no_model` (bias-estimate path).
+//!
+//! After criterion, a plain loop times 200,000 single `process` calls and prints p50/p99/p99.9
+//! per sample and per sample per axis (criterion reports means and medians only).
+//!
+//! Run: `cargo bench --bench pipeline`. The issue's target is ≤ 5 µs p99 per sample per axis.
+
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Instant;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use gyrocomp::config::Config;
+use gyrocomp::model::Fit;
+use gyrocomp::model::scaler::MinMaxScaler;
+use gyrocomp::sim::{Generator, Preset};
+use gyrocomp::stream::{CausalDenoiser, InputSample, Pipeline};
+
+const PERIOD_NS: u64 = 100_000_000;
+
+struct Setup {
+    rates: Vec<[f64; 3]>,
+    fitted: Pipeline,
+    bare: Pipeline,
+    next: u64,
+}
+
+fn setup() -> Setup {
+    let mut c = Config::default();
+    c.input.rate_hz = 10.0;
+    assert_eq!(c.retrain.window, 4000);
+    let out = Generator::generate(&Preset::Paper.config(), 1).unwrap();
+    let rates: Vec<[f64; 3]> = (0..out.len()).map(|k| std::array::from_fn(|a| out.axes[a].raw[k])).collect();
+    let mut fitted = Pipeline::new(c.pipeline().unwrap()).unwrap();
+    let mut bare = Pipeline::new(c.pipeline().unwrap()).unwrap();
+    let warm = 5000;
+    for (k, r) in rates[..warm].iter().enumerate() {
+        let s = InputSample::new(k as u64, k as u64 * PERIOD_NS, *r);
+        fitted.process(&s);
+        bare.process(&s);
+    }
+    let fit = c.cpso_lssvm().unwrap();
+    let started = Instant::now();
+    for axis in 0..3 {
+        let w = fitted.training_window(axis);
+        let scaler = MinMaxScaler::fit(&w).unwrap();
+        let scaled: Vec<f64> = w.iter().map(|&v| scaler.transform(v)).collect();
+        let model = fit.fit(&scaled).unwrap();
+        eprintln!(
+            "axis {axis}: {} rows, solver {:?}, gamma {:.3}, sigma2 {:.3}",
+            w.len(),
+            model.solver,
+            model.gamma,
+            model.sigma2
+        );
+        fitted.install_model(axis, Arc::new(model), scaler, 1).unwrap();
+    }
+    eprintln!("three CPSO-LSSVM fits: {:.2} s", started.elapsed().as_secs_f64());
+    Setup { rates, fitted, bare, next: warm as u64 }
+}
+
+impl Setup {
+    fn sample(&mut self) -> InputSample {
+        let k = self.next;
+        self.next += 1;
+        InputSample::new(k, k * PERIOD_NS, self.rates[k as usize % self.rates.len()])
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let mut s = setup();
+    let mut group = c.benchmark_group("pipeline");
+    let mut denoiser = CausalDenoiser::new(Config::default().causal_denoise().unwrap()).unwrap();
+    for r in &s.rates[..256] {
+        denoiser.push(r[0]);
+    }
+    let mut i = 256;
+    let rates = s.rates.clone();
+    group.bench_function("baseline_denoise_push_w256", |b| {
+        b.iter(|| {
+            i = if i + 1 < rates.len() { i + 1 } else { 256 };
+            denoiser.push(black_box(rates[i][0]))
+        })
+    });
+    group.bench_function("process_3axes_cpso_lssvm_w4000", |b| {
+        b.iter(|| {
+            let x = s.sample();
+            s.fitted.process(black_box(&x))
+        })
+    });
+    group.bench_function("process_3axes_no_model", |b| {
+        b.iter(|| {
+            let x = s.sample();
+            s.bare.process(black_box(&x))
+        })
+    });
+    group.finish();
+    assert_eq!(s.fitted.model_version(), 1);
+
+    let n = 200_000;
+    let mut times = Vec::with_capacity(n);
+    for _ in 0..n {
+        let x = s.sample();
+        let t0 = Instant::now();
+        black_box(s.fitted.process(black_box(&x)));
+        times.push(t0.elapsed().as_nanos() as f64);
+    }
+    times.sort_by(f64::total_cmp);
+    let q = |p: f64| times[((p * n as f64) as usize).min(n - 1)];
+    eprintln!(
+        "process (3 axes, CPSO-LSSVM w4000) over {n} samples: p50 {:.2} µs, p99 {:.2} µs, p99.9 {:.2} µs per sample; \
+         per sample per axis p50 {:.2} µs, p99 {:.2} µs",
+        q(0.5) / 1e3,
+        q(0.99) / 1e3,
+        q(0.999) / 1e3,
+        q(0.5) / 3e3,
+        q(0.99) / 3e3
+    );
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

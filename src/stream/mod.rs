@@ -17,6 +17,6 @@ pub use embed::{Embedded, Embedding};
 pub use model_slot::{InstalledModel, ModelSlot, SharedModel};
 pub use motion_gate::{MotionConfig, MotionGate};
 pub use pipeline::{InputConfig, Pipeline, PipelineConfig, PipelineError, PipelineStats};
-pub use retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer};
+pub use retrain::{FittedAxis, RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
 pub use ring::RingBuffer;
 pub use sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED};

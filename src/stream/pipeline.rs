@@ -39,7 +39,7 @@ use super::causal_denoise::CausalConfig;
 use super::embed::Embedding;
 use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
 use super::motion_gate::{MotionConfig, MotionGate};
-use super::retrain::{RetrainMode, RetrainSchedule, SendError, TrainRequest, TrainResult, Trainer};
+use super::retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
 use super::sample::{
     FLAG_MOVING, InputSample, OutputSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED,
 };
@@ -321,7 +321,7 @@ impl Pipeline {
             RetrainMode::Live => match trainer.try_recv() {
                 Ok(Some(r)) => Some(r),
                 Ok(None) => return,
-                Err(()) => None,
+                Err(_) => None,
             },
         };
         self.pending = None;
@@ -384,8 +384,8 @@ impl Pipeline {
                 self.stats.retrain_requests += 1;
                 self.pending = Some(Pending { request_index: self.stats.samples });
             }
-            Err(SendError::Busy) => self.stats.retrain_skipped += 1,
-            Err(SendError::Stopped) => {
+            Err(TrainerError::Busy) => self.stats.retrain_skipped += 1,
+            Err(TrainerError::Stopped) => {
                 tracing::error!("retrain thread stopped; keeping the current models");
                 self.trainer = None;
             }

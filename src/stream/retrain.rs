@@ -95,9 +95,9 @@ pub struct Trainer {
     thread: Option<JoinHandle<()>>,
 }
 
-/// Why a request could not be handed to the trainer.
+/// Why the trainer could not take a request or give a result.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SendError {
+pub enum TrainerError {
     /// A request is already queued.
     Busy,
     /// The trainer thread has stopped.
@@ -138,20 +138,21 @@ impl Trainer {
     }
 
     /// Queues a request without blocking.
-    pub fn try_send(&self, request: TrainRequest) -> Result<(), SendError> {
-        let Some(tx) = &self.requests else { return Err(SendError::Stopped) };
+    pub fn try_send(&self, request: TrainRequest) -> Result<(), TrainerError> {
+        let Some(tx) = &self.requests else { return Err(TrainerError::Stopped) };
         tx.try_send(request).map_err(|e| match e {
-            crossbeam_channel::TrySendError::Full(_) => SendError::Busy,
-            crossbeam_channel::TrySendError::Disconnected(_) => SendError::Stopped,
+            crossbeam_channel::TrySendError::Full(_) => TrainerError::Busy,
+            crossbeam_channel::TrySendError::Disconnected(_) => TrainerError::Stopped,
         })
     }
 
-    /// A finished result, if any, without blocking; `Err(())` when the thread has stopped.
-    pub fn try_recv(&self) -> Result<Option<TrainResult>, ()> {
+    /// A finished result, if any, without blocking; [`TrainerError::Stopped`] when the thread
+    /// has stopped.
+    pub fn try_recv(&self) -> Result<Option<TrainResult>, TrainerError> {
         match self.results.try_recv() {
             Ok(r) => Ok(Some(r)),
             Err(TryRecvError::Empty) => Ok(None),
-            Err(TryRecvError::Disconnected) => Err(()),
+            Err(TryRecvError::Disconnected) => Err(TrainerError::Stopped),
         }
     }
 
