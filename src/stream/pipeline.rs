@@ -392,3 +392,69 @@ impl Pipeline {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+    use crate::model::Predict;
+
+    fn pipeline() -> Pipeline {
+        let mut c = Config::default();
+        c.retrain.window = 100;
+        c.retrain.min_samples = 50;
+        Pipeline::new(c.pipeline().unwrap()).unwrap()
+    }
+
+    fn sample(k: u64, r: f64) -> InputSample {
+        InputSample::new(k, k * 10_000_000, [r, -r, 0.0])
+    }
+
+    #[test]
+    fn before_a_model_the_drift_is_the_mean_of_earlier_static_samples() {
+        let mut p = pipeline();
+        let first = p.process(&sample(0, 0.3));
+        assert_eq!((first.drift_dps, first.rate_dps), ([0.0; 3], [0.3, -0.3, 0.0]));
+        let second = p.process(&sample(1, 0.5));
+        assert_eq!(second.drift_dps, [0.3, -0.3, 0.0]);
+        let third = p.process(&sample(2, 0.5));
+        assert!((third.drift_dps[0] - 0.4).abs() < 1e-15);
+        assert!(third.status & STATUS_NO_MODEL != 0);
+    }
+
+    /// Returns NaN: the pipeline must fall back to the bias estimate.
+    struct Broken;
+    impl Predict for Broken {
+        fn history_len(&self) -> usize {
+            1
+        }
+        fn predict(&self, _: &[f64]) -> f64 {
+            f64::NAN
+        }
+    }
+
+    /// Needs more history than the pipeline keeps.
+    struct Greedy;
+    impl Predict for Greedy {
+        fn history_len(&self) -> usize {
+            1_000_000
+        }
+        fn predict(&self, _: &[f64]) -> f64 {
+            0.0
+        }
+    }
+
+    #[test]
+    fn a_model_returning_nan_falls_back_and_long_histories_are_refused() {
+        let mut p = pipeline();
+        let scaler = MinMaxScaler { min: -1.0, max: 1.0 };
+        p.install_model(0, Arc::new(Broken), scaler, 3).unwrap();
+        assert!(matches!(p.install_model(1, Arc::new(Greedy), scaler, 4), Err(PipelineError::HistoryTooLong { .. })));
+        for k in 0..50 {
+            let o = p.process(&sample(k, 0.2));
+            assert!(o.rate_dps.iter().all(|v| v.is_finite()));
+            assert!(o.status & STATUS_NO_MODEL != 0);
+            assert_eq!(o.model_version, 3);
+        }
+    }
+}
