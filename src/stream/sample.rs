@@ -27,7 +27,7 @@ pub struct InputSample {
     pub t_ns: u64,
     /// Angular rates x, y, z, deg/s.
     pub rate_dps: [f64; 3],
-    /// Temperature, °C (NaN = none).
+    /// Temperature, °C (NaN = none). Carried through; the current drift models do not use it.
     pub temp_c: f64,
     /// Publisher flags ([`FLAG_MOVING`]).
     pub flags: u32,
