@@ -54,9 +54,9 @@ impl AxisState {
     /// The drift forecast for the next static sample from the state so far, and whether the
     /// model made it (`false`: the running bias estimate).
     ///
-    /// With denoiser lag L the newest denoised value before sample t arrives is x̃[t−1−L]; the
+    /// With denoiser lag L the newest denoised value before sample t arrives is `x̃[t−1−L]`; the
     /// one-step model (on normalised values, Eq. 21) is iterated L + 1 times on its own outputs
-    /// to reach x̃[t]. Falls back to the bias estimate when no model is installed, the static
+    /// to reach `x̃[t]`. Falls back to the bias estimate when no model is installed, the static
     /// history is shorter than the model needs, or the model returns a non-finite value.
     #[inline]
     pub(crate) fn forecast(&mut self) -> (f64, bool) {

@@ -4,11 +4,11 @@
 //! schedule.
 //!
 //! Per sample t and axis (paper method: db4 denoising, PSR Eq. 15–16, scaler Eq. 21, LSSVM):
-//! - **Accepted static sample**: drift d[t] is the model's forecast of the denoised series at t
-//!   made from static denoised samples up to x̃[t−1−L] (L = denoiser lag), iterating the
-//!   one-step model L + 1 times (see [`ModelSlot`](super::ModelSlot)); before a model exists,
-//!   the running static bias estimate (status bit 0). Output = raw − d[t]. Then x[t] enters the
-//!   denoiser, the denoised history and the bias estimate. The output at t uses x[t] only
+//! - **Accepted static sample**: drift `d[t]` is the model's forecast of the denoised series at t
+//!   made from static denoised samples up to `x̃[t−1−L]` (L = denoiser lag), iterating the
+//!   one-step model L + 1 times (see [`InstalledModel::predict_ahead`](super::InstalledModel::predict_ahead)); before a model exists,
+//!   the running static bias estimate (status bit 0). Output = raw − `d[t]`. Then `x[t]` enters the
+//!   denoiser, the denoised history and the bias estimate. The output at t uses `x[t]` only
 //!   through "raw −": the drift estimate uses samples before t.
 //! - **Moving sample** (motion gate or publisher flag): the drift is the drift of the last static
 //!   sample, held (status bit 1); the forecast horizon counts samples since that static sample.
