@@ -302,3 +302,38 @@ fn cpso_lssvm_retrainer_installs_a_fixed_size_model() {
     assert_eq!(out[2100].model_version, 1);
     assert!(out[2100..].iter().all(|o| o.status & STATUS_NO_MODEL == 0 && finite(o)));
 }
+
+/// Prints how far the subtracted drift lies from the simulator's true drift, CPSO-LSSVM retrained
+/// in deterministic mode against the running bias estimate alone (informative, not a gate).
+/// Run: `cargo test --release --test pipeline -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn print_drift_error_against_the_truth() {
+    let n = 15_000;
+    let mut sim = Preset::Paper.config();
+    sim.duration_s = n as f64 / sim.rate_hz;
+    let truth = Generator::generate(&sim, 21).unwrap();
+    let input = samples(n, 21);
+    let mut c = Config::default();
+    c.input.rate_hz = 10.0;
+    c.retrain.mode = "deterministic".into();
+    c.retrain.every_samples = 3000;
+    c.retrain.apply_delay_samples = 100;
+    let cfg = c.pipeline().unwrap();
+    let mut model = Pipeline::new(cfg.clone()).unwrap();
+    model.attach_trainer(Trainer::spawn(c.cpso_lssvm().unwrap()).unwrap());
+    let om = run(&mut model, &input);
+    let ob = run(&mut Pipeline::new(cfg).unwrap(), &input);
+    let start = om.iter().position(|o| o.model_version > 0).unwrap();
+    for axis in 0..3 {
+        let rms = |o: &[OutputSample]| {
+            let e: f64 = (start..n).map(|k| (o[k].drift_dps[axis] - truth.axes[axis].drift[k]).powi(2)).sum();
+            (e / (n - start) as f64).sqrt()
+        };
+        println!(
+            "axis {axis}: RMS(drift − true drift) from sample {start}: CPSO-LSSVM {:.3e} deg/s, bias estimate {:.3e} deg/s",
+            rms(&om),
+            rms(&ob)
+        );
+    }
+}
