@@ -3,6 +3,7 @@
 
 pub mod causal_denoise;
 pub mod embed;
+pub mod ipc;
 pub mod ring;
 
 pub use causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser, denoise_causal};
