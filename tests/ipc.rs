@@ -327,3 +327,26 @@ fn python_client_round_trip() {
     assert!(stdout.contains("received 500/500 compensated samples, in order: True"), "{stdout}");
     assert_eq!(echo.stop(), 500);
 }
+
+#[test]
+fn a_service_with_other_overflow_semantics_is_refused() {
+    use iceoryx2::prelude::{NodeBuilder, ServiceName, SignalHandlingMode, ipc};
+    let domain = Domain::new("ov");
+    // A peer that created gyrocomp/raw with iceoryx2's default (overwriting) overflow.
+    let node = NodeBuilder::new()
+        .config(domain.0.config())
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .unwrap();
+    let _service = node
+        .service_builder(&ServiceName::new("gyrocomp/raw").unwrap())
+        .publish_subscribe::<RawSample>()
+        .enable_safe_overflow(true)
+        .subscriber_max_buffer_size(4096)
+        .open_or_create()
+        .unwrap();
+    let ours = IpcNode::new(&domain.0, "ours", IpcSettings::default()).unwrap();
+    let err = ours.raw_subscriber().err().expect("overwriting service must be refused");
+    assert!(err.to_string().contains("IncompatibleOverflowBehavior"), "{err}");
+    assert!(err.to_string().contains("gyrocomp/raw"), "{err}");
+}

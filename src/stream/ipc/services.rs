@@ -14,6 +14,10 @@
 //! A setting given to the builder is verified when the service already exists, so a peer that created
 //! it with safe overflow on, or a smaller buffer, is refused with a clear error instead of silently
 //! getting other semantics. The Python client uses the same settings.
+//!
+//! A subscriber attaches to a publisher's connection lazily (see [`super::client`]); until then a
+//! lossless publisher waits only while that subscriber's buffer has room, so a client primes the
+//! stream with [`super::prime`] before sending fast.
 
 use std::fmt::Debug;
 
