@@ -1,10 +1,12 @@
-//! Per-sample building blocks of the streaming pipeline (pure numerics, no I/O): a mirrored ring
-//! buffer, the causal wavelet denoiser, the phase-space embedding, the motion gate, the model
-//! slot, the [`Pipeline`] that chains them for three axes and its background [`Trainer`].
+//! Per-sample building blocks of the streaming pipeline: a mirrored ring buffer, the causal
+//! wavelet denoiser, the phase-space embedding, the motion gate, the model slot, the [`Pipeline`]
+//! that chains them for three axes and its background [`Trainer`] — all pure numerics, no I/O —
+//! and, at the edge, [`ipc`]: the only module that knows iceoryx2.
 
 mod axis;
 pub mod causal_denoise;
 pub mod embed;
+pub mod ipc;
 pub mod model_slot;
 pub mod motion_gate;
 pub mod pipeline;

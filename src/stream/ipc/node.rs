@@ -1,0 +1,96 @@
+//! An iceoryx2 node in a domain, and the gyrocomp ports it creates.
+
+use iceoryx2::node::{Node, NodeBuilder};
+use iceoryx2::prelude::{NodeName, SignalHandlingMode, ipc};
+
+use super::domain::IpcDomain;
+use super::error::{IpcError, IpcResult};
+use super::receiver::Receiver;
+use super::sender::Sender;
+use super::services::{Qos, STATUS_BUFFER, open_pair};
+use super::settings::{Delivery, IpcSettings};
+use super::wire::{CompSample, RawSample, StatusSample};
+
+/// Daemon side: raw samples in.
+pub type RawSubscriber = Receiver<RawSample>;
+/// Daemon side: compensated samples out, one per raw sample.
+pub type CompPublisher = Sender<CompSample>;
+/// Daemon side: model events and counters out.
+pub type StatusPublisher = Sender<StatusSample>;
+/// Client side (INS, replay, tests): raw samples out.
+pub type RawPublisher = Sender<RawSample>;
+/// Client side: compensated samples in.
+pub type CompSubscriber = Receiver<CompSample>;
+/// Client side: model events and counters in.
+pub type StatusSubscriber = Receiver<StatusSample>;
+
+/// An iceoryx2 node plus the settings of the ports it creates.
+///
+/// Ports outlive nothing: they keep their services alive by themselves, so they may be moved
+/// out and the node dropped. Ports are not `Send`: create them on the thread that uses them.
+/// The node installs no signal handler (iceoryx2 `SignalHandlingMode::Disabled`); the daemon
+/// handles termination itself.
+pub struct IpcNode {
+    node: Node<ipc::Service>,
+    settings: IpcSettings,
+}
+
+impl IpcNode {
+    /// Creates a node called `name` in `domain`.
+    pub fn new(domain: &IpcDomain, name: &str, settings: IpcSettings) -> IpcResult<Self> {
+        let node_name = NodeName::new(name).map_err(|e| IpcError::iox("parse node name", name, e))?;
+        let node = NodeBuilder::new()
+            .name(&node_name)
+            .config(domain.config())
+            .signal_handling_mode(SignalHandlingMode::Disabled)
+            .create::<ipc::Service>()
+            .map_err(|e| IpcError::iox("create node", name, e))?;
+        tracing::debug!(node = name, prefix = %domain.prefix(), root = %domain.root_path(), "iceoryx2 node created");
+        Ok(Self { node, settings })
+    }
+
+    /// The settings ports are created with.
+    pub fn settings(&self) -> &IpcSettings {
+        &self.settings
+    }
+
+    fn stream(&self) -> Qos {
+        Qos::Stream { buffer: self.settings.subscriber_buffer }
+    }
+
+    /// Subscribes to the raw service (daemon input).
+    pub fn raw_subscriber(&self) -> IpcResult<RawSubscriber> {
+        let pair = open_pair::<RawSample>(&self.node, &self.settings.names.raw, self.stream())?;
+        Receiver::new(pair, self.settings.subscriber_buffer, self.settings.wait_mode)
+    }
+
+    /// Publishes on the compensated service (daemon output).
+    pub fn comp_publisher(&self) -> IpcResult<CompPublisher> {
+        let pair = open_pair::<CompSample>(&self.node, &self.settings.names.compensated, self.stream())?;
+        Sender::new(pair, self.settings.delivery, self.settings.notify)
+    }
+
+    /// Publishes on the status service (never waits for readers: the service overwrites).
+    pub fn status_publisher(&self) -> IpcResult<StatusPublisher> {
+        let pair = open_pair::<StatusSample>(&self.node, &self.settings.names.status, Qos::Reports)?;
+        Sender::new(pair, Delivery::DropNewest, self.settings.notify)
+    }
+
+    /// Publishes on the raw service (client side).
+    pub fn raw_publisher(&self) -> IpcResult<RawPublisher> {
+        let pair = open_pair::<RawSample>(&self.node, &self.settings.names.raw, self.stream())?;
+        Sender::new(pair, self.settings.delivery, self.settings.notify)
+    }
+
+    /// Subscribes to the compensated service (client side).
+    pub fn comp_subscriber(&self) -> IpcResult<CompSubscriber> {
+        let pair = open_pair::<CompSample>(&self.node, &self.settings.names.compensated, self.stream())?;
+        Receiver::new(pair, self.settings.subscriber_buffer, self.settings.wait_mode)
+    }
+
+    /// Subscribes to the status service.
+    pub fn status_subscriber(&self) -> IpcResult<StatusSubscriber> {
+        let pair = open_pair::<StatusSample>(&self.node, &self.settings.names.status, Qos::Reports)?;
+        Receiver::new(pair, STATUS_BUFFER, self.settings.wait_mode)
+    }
+}
