@@ -1,0 +1,189 @@
+//! `gyrocompd` end to end: the built binary in a private iceoryx2 domain, fed a simulated stream
+//! through the Rust client ports. One answer per raw sample, same `seq`, in order; deterministic
+//! retraining raises `model_version` exactly where the schedule says; SIGHUP applies new motion
+//! thresholds without losing a sample; SIGTERM ends it with exit code 0 and a final status.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+use gyrocomp::sim::{Generator, Preset};
+use gyrocomp::stream::ipc::{
+    CompSample, CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, STATUS_MOVING,
+    StatusEvent, StatusSubscriber, prime,
+};
+
+const EVERY: u64 = 200;
+const DELAY: u64 = 20;
+
+/// The daemon process and its private domain; kills the process and removes the domain on drop
+/// (printing the daemon's log when the test failed).
+struct Daemon {
+    child: Option<Child>,
+    domain: IpcDomain,
+    config: PathBuf,
+    log: PathBuf,
+    _dir: tempfile::TempDir,
+}
+
+impl Daemon {
+    fn start() -> Self {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let domain = IpcDomain::unique("daemon").expect("private domain");
+        let config = dir.path().join("gyrocompd.toml");
+        std::fs::write(&config, config_text(&domain, 1.0)).unwrap();
+        let log = dir.path().join("gyrocompd.log");
+        let child = Command::new(env!("CARGO_BIN_EXE_gyrocompd"))
+            .arg("--config")
+            .arg(&config)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(std::fs::File::create(&log).unwrap())
+            .spawn()
+            .expect("start gyrocompd");
+        Self { child: Some(child), domain, config, log, _dir: dir }
+    }
+
+    fn signal(&self, name: &str) {
+        let pid = self.child.as_ref().unwrap().id().to_string();
+        let ok = Command::new("kill").args([&format!("-{name}"), pid.as_str()]).status().unwrap().success();
+        assert!(ok, "kill -{name} {pid}");
+    }
+
+    fn wait(&mut self, timeout: Duration) -> ExitStatus {
+        let start = Instant::now();
+        let child = self.child.as_mut().unwrap();
+        loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                self.child = None;
+                return status;
+            }
+            assert!(start.elapsed() < timeout, "gyrocompd did not exit within {timeout:?}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+}
+
+impl Drop for Daemon {
+    fn drop(&mut self) {
+        if let Some(mut child) = self.child.take() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+        if std::thread::panicking() {
+            eprintln!("--- gyrocompd log ---\n{}", std::fs::read_to_string(&self.log).unwrap_or_default());
+        }
+        let _ = self.domain.remove_private_files();
+    }
+}
+
+/// A quick deterministic retrain schedule and a cheap CPSO-LSSVM, in the test's private domain.
+fn config_text(domain: &IpcDomain, motion_rate_dps: f64) -> String {
+    let root = domain.root_path();
+    format!(
+        "[denoise]\nwindow = 64\n\
+         [motion]\nrate_dps = {motion_rate_dps:?}\n\
+         [input]\nrate_hz = 10.0\n\
+         [retrain]\nmode = \"deterministic\"\nwindow = 150\nmin_samples = 100\nevery_samples = {EVERY}\n\
+         apply_delay_samples = {DELAY}\nexact_max_rows = 200\nprototypes = 20\n\
+         cpso_candidates = 2\ncpso_particles = 1\ncpso_iterations = 1\n\
+         [ipc]\ndomain_prefix = \"{}\"\ndomain_root = \"{}\"\n\
+         [log]\nlevel = \"info\"\n",
+        domain.prefix(),
+        root.trim_end_matches('/'),
+    )
+}
+
+/// `n` simulated static samples of the paper preset (10 Hz), seq = index.
+fn stream(n: usize) -> Vec<RawSample> {
+    let mut sim = Preset::Paper.config();
+    sim.duration_s = n as f64 / sim.rate_hz;
+    let out = Generator::generate(&sim, 7).unwrap();
+    (0..n)
+        .map(|k| {
+            let rate = [out.axes[0].raw[k], out.axes[1].raw[k], out.axes[2].raw[k]];
+            RawSample { temp_c: out.temp_c[k], ..RawSample::new(k as u64, k as u64 * 100_000_000, rate) }
+        })
+        .collect()
+}
+
+/// Sends `samples` and returns the answers, checking one per sample, same `seq`, in order.
+fn exchange(raw: &RawPublisher, comp: &CompSubscriber, samples: &[RawSample]) -> Vec<CompSample> {
+    for s in samples {
+        raw.send(*s).expect("send raw sample");
+    }
+    samples
+        .iter()
+        .map(|s| {
+            let answer = comp.recv_timeout(Duration::from_secs(10)).unwrap().expect("an answer per sample");
+            assert_eq!((answer.seq, answer.t_ns), (s.seq, s.t_ns));
+            assert!(answer.rate_dps.iter().chain(&answer.drift_dps).all(|v| v.is_finite()));
+            answer
+        })
+        .collect()
+}
+
+fn events(status: &StatusSubscriber) -> Vec<StatusEvent> {
+    let mut out = Vec::new();
+    while let Some(s) = status.try_recv().unwrap() {
+        out.push(StatusEvent::from_u32(s.event).expect("known status event"));
+    }
+    out
+}
+
+fn write_config(path: &Path, text: &str) {
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
+    let mut daemon = Daemon::start();
+    let settings = IpcSettings {
+        delivery: Delivery::Lossless { give_up_after: Some(Duration::from_secs(5)) },
+        ..IpcSettings::default()
+    };
+    let node = IpcNode::new(&daemon.domain, "test_ins", settings).unwrap();
+    let raw = node.raw_publisher().unwrap();
+    let comp = node.comp_subscriber().unwrap();
+    let status = node.status_subscriber().unwrap();
+
+    let samples = stream(900);
+    let first = prime(&raw, &comp, samples[0], Duration::from_secs(20)).expect("daemon answers the first sample");
+    assert_eq!((first.seq, first.model_version), (0, 0));
+
+    // Retraining: requests after 200, 400, 600 samples, each installed 20 samples later.
+    let answers = exchange(&raw, &comp, &samples[1..700]);
+    for a in &answers {
+        // Installs happen right before seq k·EVERY + DELAY (seq 0 was the first sample).
+        assert_eq!(a.model_version, a.seq.saturating_sub(DELAY) / EVERY, "seq {}", a.seq);
+        assert_eq!(a.status & STATUS_MOVING, 0, "seq {}", a.seq);
+    }
+    assert_eq!(answers.last().unwrap().model_version, 3);
+
+    // SIGHUP with a motion threshold below every rate: the next samples are all moving.
+    write_config(&daemon.config, &config_text(&daemon.domain, 1e-9));
+    daemon.signal("HUP");
+    std::thread::sleep(Duration::from_millis(500));
+    let moving = exchange(&raw, &comp, &samples[700..900]);
+    assert!(moving.iter().all(|a| a.status & STATUS_MOVING != 0));
+
+    let seen = events(&status);
+    assert!(seen.contains(&StatusEvent::ModelSwapped), "{seen:?}");
+
+    daemon.signal("TERM");
+    let exit = daemon.wait(Duration::from_secs(10));
+    assert!(exit.success(), "gyrocompd exited with {exit}");
+    let seen = events(&status);
+    assert_eq!(seen.last(), Some(&StatusEvent::Stopping), "{seen:?}");
+}
+
+#[test]
+fn bad_config_is_refused_at_start_with_the_key_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("bad.toml");
+    write_config(&config, "[ipc]\nwait = \"sometimes\"\n");
+    let out = Command::new(env!("CARGO_BIN_EXE_gyrocompd")).arg("--config").arg(&config).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("ipc.wait"), "{stderr}");
+}
