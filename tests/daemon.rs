@@ -27,11 +27,11 @@ struct Daemon {
 }
 
 impl Daemon {
-    fn start() -> Self {
+    fn start(wait: &str) -> Self {
         let dir = tempfile::tempdir().expect("temp dir");
         let domain = IpcDomain::unique("daemon").expect("private domain");
         let config = dir.path().join("gyrocompd.toml");
-        std::fs::write(&config, config_text(&domain, 1.0)).unwrap();
+        std::fs::write(&config, config_text(&domain, 1.0, wait)).unwrap();
         let log = dir.path().join("gyrocompd.log");
         let child = Command::new(env!("CARGO_BIN_EXE_gyrocompd"))
             .arg("--config")
@@ -78,7 +78,7 @@ impl Drop for Daemon {
 }
 
 /// A quick deterministic retrain schedule and a cheap CPSO-LSSVM, in the test's private domain.
-fn config_text(domain: &IpcDomain, motion_rate_dps: f64) -> String {
+fn config_text(domain: &IpcDomain, motion_rate_dps: f64, wait: &str) -> String {
     let root = domain.root_path();
     format!(
         "[denoise]\nwindow = 64\n\
@@ -87,7 +87,7 @@ fn config_text(domain: &IpcDomain, motion_rate_dps: f64) -> String {
          [retrain]\nmode = \"deterministic\"\nwindow = 150\nmin_samples = 100\nevery_samples = {EVERY}\n\
          apply_delay_samples = {DELAY}\nexact_max_rows = 200\nprototypes = 20\n\
          cpso_candidates = 2\ncpso_particles = 1\ncpso_iterations = 1\n\
-         [ipc]\ndomain_prefix = \"{}\"\ndomain_root = \"{}\"\n\
+         [ipc]\nwait = \"{wait}\"\ndomain_prefix = \"{}\"\ndomain_root = \"{}\"\n\
          [log]\nlevel = \"info\"\n",
         domain.prefix(),
         root.trim_end_matches('/'),
@@ -123,6 +123,12 @@ fn exchange(raw: &RawPublisher, comp: &CompSubscriber, samples: &[RawSample]) ->
         .collect()
 }
 
+/// A lossless client node in the daemon's domain.
+fn client(domain: &IpcDomain) -> IpcNode {
+    let delivery = Delivery::Lossless { give_up_after: Some(Duration::from_secs(5)) };
+    IpcNode::new(domain, "test_ins", IpcSettings { delivery, ..IpcSettings::default() }).unwrap()
+}
+
 fn events(status: &StatusSubscriber) -> Vec<StatusEvent> {
     let mut out = Vec::new();
     while let Some(s) = status.try_recv().unwrap() {
@@ -137,12 +143,8 @@ fn write_config(path: &Path, text: &str) {
 
 #[test]
 fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
-    let mut daemon = Daemon::start();
-    let settings = IpcSettings {
-        delivery: Delivery::Lossless { give_up_after: Some(Duration::from_secs(5)) },
-        ..IpcSettings::default()
-    };
-    let node = IpcNode::new(&daemon.domain, "test_ins", settings).unwrap();
+    let mut daemon = Daemon::start("event");
+    let node = client(&daemon.domain);
     let raw = node.raw_publisher().unwrap();
     let comp = node.comp_subscriber().unwrap();
     let status = node.status_subscriber().unwrap();
@@ -161,7 +163,7 @@ fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
     assert_eq!(answers.last().unwrap().model_version, 3);
 
     // SIGHUP with a motion threshold below every rate: the next samples are all moving.
-    write_config(&daemon.config, &config_text(&daemon.domain, 1e-9));
+    write_config(&daemon.config, &config_text(&daemon.domain, 1e-9, "event"));
     daemon.signal("HUP");
     std::thread::sleep(Duration::from_millis(500));
     let moving = exchange(&raw, &comp, &samples[700..900]);
@@ -175,6 +177,28 @@ fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
     assert!(exit.success(), "gyrocompd exited with {exit}");
     let seen = events(&status);
     assert_eq!(seen.last(), Some(&StatusEvent::Stopping), "{seen:?}");
+}
+
+#[test]
+fn spinning_daemon_answers_what_it_received_before_sigterm() {
+    let mut daemon = Daemon::start("spin");
+    let node = client(&daemon.domain);
+    let raw = node.raw_publisher().unwrap();
+    let comp = node.comp_subscriber().unwrap();
+    let samples = stream(501);
+    prime(&raw, &comp, samples[0], Duration::from_secs(20)).expect("daemon answers the first sample");
+    // Lossless sends return once the samples sit in the daemon's buffer; SIGTERM right after
+    // must still get every one of them answered.
+    for s in &samples[1..] {
+        raw.send(*s).unwrap();
+    }
+    daemon.signal("TERM");
+    for s in &samples[1..] {
+        let answer = comp.recv_timeout(Duration::from_secs(10)).unwrap().expect("an answer per sample");
+        assert_eq!(answer.seq, s.seq);
+    }
+    let exit = daemon.wait(Duration::from_secs(10));
+    assert!(exit.success(), "gyrocompd exited with {exit}");
 }
 
 #[test]
