@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use gyrocomp::sim::{Generator, Preset};
 use gyrocomp::stream::ipc::{
     CompSample, CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, STATUS_MOVING,
-    StatusEvent, StatusSubscriber, prime,
+    StatusEvent, StatusSample, StatusSubscriber, prime,
 };
 
 const EVERY: u64 = 200;
@@ -129,12 +129,16 @@ fn client(domain: &IpcDomain) -> IpcNode {
     IpcNode::new(domain, "test_ins", IpcSettings { delivery, ..IpcSettings::default() }).unwrap()
 }
 
-fn events(status: &StatusSubscriber) -> Vec<StatusEvent> {
+fn reports(status: &StatusSubscriber) -> Vec<StatusSample> {
     let mut out = Vec::new();
     while let Some(s) = status.try_recv().unwrap() {
-        out.push(StatusEvent::from_u32(s.event).expect("known status event"));
+        out.push(s);
     }
     out
+}
+
+fn events(reports: &[StatusSample]) -> Vec<StatusEvent> {
+    reports.iter().map(|s| StatusEvent::from_u32(s.event).expect("known status event")).collect()
 }
 
 fn write_config(path: &Path, text: &str) {
@@ -169,14 +173,25 @@ fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
     let moving = exchange(&raw, &comp, &samples[700..900]);
     assert!(moving.iter().all(|a| a.status & STATUS_MOVING != 0));
 
-    let seen = events(&status);
+    let before_stop = reports(&status);
+    let seen = events(&before_stop);
     assert!(seen.contains(&StatusEvent::ModelSwapped), "{seen:?}");
+    let swap = before_stop.iter().rfind(|s| s.event == StatusEvent::ModelSwapped as u32).unwrap();
+    assert!(
+        swap.model_version >= 1 && swap.retrains_done == swap.model_version && swap.last_retrain_ns > 0,
+        "{swap:?}"
+    );
 
     daemon.signal("TERM");
     let exit = daemon.wait(Duration::from_secs(10));
     assert!(exit.success(), "gyrocompd exited with {exit}");
-    let seen = events(&status);
-    assert_eq!(seen.last(), Some(&StatusEvent::Stopping), "{seen:?}");
+    let last = reports(&status);
+    let stopping = last.last().expect("a final status");
+    assert_eq!(StatusEvent::from_u32(stopping.event), Some(StatusEvent::Stopping), "{last:?}");
+    assert_eq!((stopping.samples_in, stopping.samples_out, stopping.last_seq), (900, 900, 899));
+    // Moving samples enter no buffer, but the static history is still there: the request after
+    // 800 samples is served too.
+    assert_eq!((stopping.model_version, stopping.send_failures), (4, 0));
 }
 
 #[test]
@@ -210,4 +225,27 @@ fn bad_config_is_refused_at_start_with_the_key_named() {
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("ipc.wait"), "{stderr}");
+}
+
+#[test]
+fn python_client_through_the_daemon() {
+    let probe = Command::new("python3").args(["-c", "import iceoryx2"]).output();
+    if !matches!(&probe, Ok(o) if o.status.success()) {
+        eprintln!("SKIP python_client_through_the_daemon: the iceoryx2 Python wheel is not importable");
+        return;
+    }
+    let mut daemon = Daemon::start("event");
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/python/ins_publisher.py");
+    let out = Command::new("python3")
+        .args([script, "--count", "500", "--rate-hz", "0", "--quiet", "--timeout-s", "20"])
+        .args(["--domain-prefix", &daemon.domain.prefix(), "--domain-root", &daemon.domain.root_path()])
+        .output()
+        .expect("run python3");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "python client failed\nstdout:\n{stdout}\nstderr:\n{stderr}");
+    assert!(stdout.contains("received 500/500 compensated samples, in order: True"), "{stdout}");
+    daemon.signal("TERM");
+    let exit = daemon.wait(Duration::from_secs(10));
+    assert!(exit.success(), "gyrocompd exited with {exit}");
 }

@@ -32,6 +32,10 @@ pub struct LoopCounters {
     pub send_failures: u64,
     /// `seq` of the last raw sample received.
     pub last_seq: u64,
+    /// Wall time from the last retrain request to its model's installation (or failure), ns;
+    /// live mode: the fit plus at most one sample period; deterministic mode: also the apply
+    /// delay. 0 = none yet.
+    pub last_retrain_ns: u64,
 }
 
 /// A status report from the pipeline's and the loop's counters.
@@ -54,8 +58,7 @@ pub fn status_sample(
         retrains_failed: stats.retrain_failed,
         model_version,
         last_seq: counters.last_seq,
-        // The pipeline does not time its fits yet (the trainer logs each duration at debug level).
-        last_retrain_ns: 0,
+        last_retrain_ns: counters.last_retrain_ns,
         event: event as u32,
         _pad: 0,
         send_failures: counters.send_failures,
@@ -87,9 +90,11 @@ mod tests {
         assert_eq!((comp.seq, comp.t_ns, comp.model_version, comp.status, comp._pad), (7, 70, 4, 0b1010, 0));
         assert_eq!((comp.rate_dps, comp.drift_dps), ([0.5; 3], [0.1; 3]));
         let stats = PipelineStats { retrain_skipped: 2, retrain_starved: 3, models_installed: 1, ..Default::default() };
-        let counters = LoopCounters { samples_in: 9, samples_out: 8, send_failures: 1, last_seq: 7 };
+        let counters =
+            LoopCounters { samples_in: 9, samples_out: 8, send_failures: 1, last_seq: 7, last_retrain_ns: 3 };
         let s = status_sample(StatusEvent::ModelSwapped, 5, &stats, 4, &counters);
         assert_eq!((s.retrains_skipped, s.retrains_done, s.model_version, s.samples_out), (5, 1, 4, 8));
+        assert_eq!((s.last_seq, s.last_retrain_ns, s.send_failures), (7, 3, 1));
         assert_eq!(StatusEvent::from_u32(s.event), Some(StatusEvent::ModelSwapped));
     }
 }

@@ -94,6 +94,9 @@ struct Worker {
     reported_version: u64,
     reported_failed: u64,
     status_errors: u64,
+    /// Retrain requests seen so far, and when the newest one was made.
+    requests_seen: u64,
+    request_at: Option<Instant>,
 }
 
 impl Daemon {
@@ -123,6 +126,8 @@ impl Daemon {
             reported_version: 0,
             reported_failed: 0,
             status_errors: 0,
+            requests_seen: 0,
+            request_at: None,
         };
         tracing::info!(
             raw = %settings.names.raw,
@@ -217,11 +222,24 @@ impl Worker {
                 }
             }
         }
+        // A model is installed (or a fit fails) before the sample it first serves; a request is
+        // made after the sample that completes the schedule: check in that order.
         let stats = self.pipeline.stats();
-        if out.model_version != self.reported_version {
+        let swapped = out.model_version != self.reported_version;
+        let failed = stats.retrain_failed != self.reported_failed;
+        if (swapped || failed)
+            && let Some(at) = self.request_at.take()
+        {
+            self.counters.last_retrain_ns = u64::try_from(at.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        }
+        if stats.retrain_requests != self.requests_seen {
+            self.requests_seen = stats.retrain_requests;
+            self.request_at = Some(Instant::now());
+        }
+        if swapped {
             self.reported_version = out.model_version;
             self.report(StatusEvent::ModelSwapped);
-        } else if stats.retrain_failed != self.reported_failed {
+        } else if failed {
             self.reported_failed = stats.retrain_failed;
             self.report(StatusEvent::RetrainFailed);
         }
