@@ -15,9 +15,11 @@
 //! - [`config`]: the configuration file (`configs/default.toml`).
 //! - [`io`]: CSV reading and writing (the edge where files live).
 //! - [`cli`]: the `gyrocomp` command-line driver.
+//! - [`daemon`]: `gyrocompd`, the iceoryx2 sidecar daemon (pipeline, retrainer, signals).
 
 pub mod cli;
 pub mod config;
+pub mod daemon;
 pub mod diag;
 pub mod eval;
 pub mod io;

@@ -39,6 +39,16 @@ impl MotionGate {
         &self.config
     }
 
+    /// Changes the thresholds; the variance windows are kept when `window` is unchanged and
+    /// restart empty otherwise (only the rate test applies until they refill).
+    pub fn reconfigure(&mut self, config: MotionConfig) {
+        if config.window.max(2) == self.config.window.max(2) {
+            self.config = config;
+        } else {
+            *self = Self::new(config);
+        }
+    }
+
     /// Adds an accepted (finite, in-range) sample and returns whether it is moving.
     pub fn push(&mut self, rate_dps: &[f64; 3], flagged_moving: bool) -> bool {
         let mut moving = flagged_moving;

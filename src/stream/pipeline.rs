@@ -179,6 +179,31 @@ impl Pipeline {
         self.last_request = Instant::now();
     }
 
+    /// Applies new motion-gate and input thresholds from the next sample on (a reloaded
+    /// configuration); buffers, models and counters are kept (see [`MotionGate::reconfigure`]).
+    pub fn update_thresholds(&mut self, motion: MotionConfig, input: InputConfig) {
+        self.gate.reconfigure(motion);
+        self.config.motion = motion;
+        self.config.input = input;
+    }
+
+    /// Applies a new retrain schedule from the next sample on; a pending request keeps running.
+    /// Refused when `schedule.window` exceeds the history allocated in [`Pipeline::new`].
+    pub fn set_retrain_schedule(&mut self, schedule: RetrainSchedule) -> Result<(), PipelineError> {
+        let kept = self.axes[0].history.capacity();
+        if schedule.window > kept {
+            return Err(PipelineError::Config(format!(
+                "retrain.window: {} exceeds the {kept} samples of history kept since start",
+                schedule.window
+            )));
+        }
+        if schedule.min_samples > schedule.window || schedule.every_samples == 0 {
+            return Err(PipelineError::Config("retrain: need every_samples >= 1 and min_samples <= window".into()));
+        }
+        self.config.retrain = schedule;
+        Ok(())
+    }
+
     /// The settings.
     pub fn config(&self) -> &PipelineConfig {
         &self.config
@@ -442,6 +467,35 @@ mod tests {
         fn predict(&self, _: &[f64]) -> f64 {
             0.0
         }
+    }
+
+    #[test]
+    fn thresholds_and_schedule_change_without_losing_state() {
+        let mut p = pipeline();
+        for k in 0..30 {
+            p.process(&sample(k, 0.5));
+        }
+        let before = p.process(&sample(30, 0.5));
+        assert_eq!(before.status & STATUS_MOVING, 0);
+        let mut motion = p.config().motion;
+        motion.rate_dps = 0.4;
+        p.update_thresholds(motion, p.config().input);
+        let after = p.process(&sample(31, 0.5));
+        assert!(after.status & STATUS_MOVING != 0);
+        // The drift estimate (state) survived the change.
+        assert_eq!(after.drift_dps, before.drift_dps);
+        assert_eq!(p.stats().samples, 32);
+
+        let mut schedule = p.config().retrain;
+        schedule.every_samples = 7;
+        schedule.mode = RetrainMode::Deterministic;
+        p.set_retrain_schedule(schedule).unwrap();
+        assert_eq!(p.config().retrain.every_samples, 7);
+        schedule.window = 1_000_000;
+        assert!(
+            matches!(p.set_retrain_schedule(schedule), Err(PipelineError::Config(m)) if m.contains("retrain.window"))
+        );
+        assert_eq!(p.config().retrain.every_samples, 7);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 use std::fmt::Debug;
 use std::time::{Duration, Instant};
 
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::{ZeroCopySend, ipc};
 
@@ -71,7 +71,8 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Receiver<T> {
 
     /// Waits until a value is waiting or `timeout` passed; returns whether one is waiting.
     /// Event mode sleeps on the event service (spurious or stale wake-ups are absorbed; it looks
-    /// at least every 10 ms); spin mode polls.
+    /// at least every 10 ms; a signal delivered to the process ends the wait early); spin mode
+    /// polls.
     pub fn wait(&self, timeout: Duration) -> IpcResult<bool> {
         let start = Instant::now();
         let mut spins: u32 = 0;
@@ -84,11 +85,13 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Receiver<T> {
                 return Ok(false);
             }
             match &self.listener {
-                Some(listener) => {
-                    listener
-                        .timed_wait(|_| {}, left.min(ATTACH_POLL))
-                        .map_err(|e| IpcError::iox("wait on event", &self.name, e))?;
-                }
+                Some(listener) => match listener.timed_wait(|_| {}, left.min(ATTACH_POLL)) {
+                    Ok(_) => {}
+                    // A signal (SIGHUP, SIGTERM, …) cut the sleep short: not an error; return so
+                    // that the caller sees it promptly.
+                    Err(ListenerWaitError::InterruptSignal) => return self.has_samples(),
+                    Err(e) => return Err(IpcError::iox("wait on event", &self.name, e)),
+                },
                 None => {
                     spins = spins.wrapping_add(1);
                     if spins.is_multiple_of(4096) {

@@ -1,0 +1,53 @@
+//! `gyrocompd`: the gyro drift compensation daemon (iceoryx2 in and out, background retraining).
+//! See `gyrocompd --help` and the README section "gyrocompd"; the work is in `gyrocomp::daemon`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Parser;
+use gyrocomp::daemon::{Daemon, Signals, logging, run::load_config};
+
+/// gyrocompd: compensates MEMS gyro drift for an INS over iceoryx2 shared memory.
+/// SIGTERM/SIGINT: answer the samples already received, publish a final status, exit 0.
+/// SIGHUP: reload the config file (motion/input thresholds and retrain schedule apply at once).
+#[derive(Debug, Parser)]
+#[command(name = "gyrocompd", version, about)]
+struct Args {
+    /// Configuration file (TOML, keys as in configs/default.toml); built-in defaults without it.
+    #[arg(long)]
+    config: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    let config = match load_config(args.config.as_deref()) {
+        Ok(c) => c,
+        Err(e) => return fail(&e),
+    };
+    if let Err(e) = logging::init(&config) {
+        return fail(&e);
+    }
+    let signals = match Signals::install() {
+        Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
+    match Daemon::new(config, args.config, signals).run() {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e) => {
+            tracing::error!(error = %e, "gyrocompd could not start");
+            fail(&e)
+        }
+    }
+}
+
+/// Prints `error` and its causes on stderr (logging may not be set up yet) and returns 2.
+fn fail(error: &dyn std::error::Error) -> ExitCode {
+    let mut msg = format!("gyrocompd: error: {error}");
+    let mut source = error.source();
+    while let Some(cause) = source {
+        msg.push_str(&format!("\n  caused by: {cause}"));
+        source = cause.source();
+    }
+    eprintln!("{msg}");
+    ExitCode::from(2)
+}

@@ -1,0 +1,18 @@
+//! The daemon's log output: `tracing` events on stderr, as text or JSON lines (`[log]`).
+
+use tracing_subscriber::EnvFilter;
+
+use crate::config::{Config, ConfigError, LogFormat};
+
+/// Installs the global `tracing` subscriber of `[log]`. Fails on a bad `[log]` section or when
+/// a subscriber is already installed.
+pub fn init(config: &Config) -> Result<(), ConfigError> {
+    let format = config.log_format()?;
+    let filter = EnvFilter::try_new(&config.log.level).map_err(|e| ConfigError(format!("log.level: {e}")))?;
+    let builder = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_target(false);
+    let installed = match format {
+        LogFormat::Text => builder.try_init(),
+        LogFormat::Json => builder.json().try_init(),
+    };
+    installed.map_err(|e| ConfigError(format!("log: {e}")))
+}

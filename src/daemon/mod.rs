@@ -1,0 +1,18 @@
+//! `gyrocompd`, the sidecar daemon (design.md "One pipeline, three drivers", driver 1): raw gyro
+//! samples in over iceoryx2, one compensated sample out per raw sample (same `seq`), model events
+//! and counters on the status service, a background retrainer, and signal handling.
+//!
+//! - [`convert`]: wire types ⇄ pipeline records, pipeline counters → `StatusSample`.
+//! - [`signals`]: SIGTERM/SIGINT (stop) and SIGHUP (reload) as atomic flags.
+//! - [`logging`]: the `[log]` section → a `tracing` subscriber.
+//! - [`reload`]: applying a reloaded configuration to a running pipeline.
+//! - [`run`]: start-up and the loop.
+
+pub mod convert;
+pub mod logging;
+pub mod reload;
+pub mod run;
+pub mod signals;
+
+pub use run::{Daemon, DaemonError, RunSummary};
+pub use signals::Signals;
