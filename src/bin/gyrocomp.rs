@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use gyrocomp::cli::{Cli, run};
+use gyrocomp::cli::{Cli, error_chain, run};
 use tracing_subscriber::EnvFilter;
 
 fn main() -> ExitCode {
@@ -13,13 +13,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            let mut msg = format!("error: {err}");
-            let mut source = err.source();
-            while let Some(cause) = source {
-                msg.push_str(&format!("\n  caused by: {cause}"));
-                source = cause.source();
-            }
-            eprintln!("{msg}");
+            eprintln!("error: {}", error_chain(err.as_ref()));
             ExitCode::from(2)
         }
     }

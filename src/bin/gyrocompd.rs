@@ -42,12 +42,6 @@ fn main() -> ExitCode {
 
 /// Prints `error` and its causes on stderr (logging may not be set up yet) and returns 2.
 fn fail(error: &dyn std::error::Error) -> ExitCode {
-    let mut msg = format!("gyrocompd: error: {error}");
-    let mut source = error.source();
-    while let Some(cause) = source {
-        msg.push_str(&format!("\n  caused by: {cause}"));
-        source = cause.source();
-    }
-    eprintln!("{msg}");
+    eprintln!("gyrocompd: error: {}", gyrocomp::cli::error_chain(error));
     ExitCode::from(2)
 }
