@@ -9,17 +9,11 @@
 
 use iceoryx2::prelude::ZeroCopySend;
 
-/// `RawSample::flags` bit 0: the publisher says the vehicle is moving.
-pub const RAW_FLAG_MOVING: u32 = 1 << 0;
-
-/// `CompSample::status` bit 0: no model yet (the drift is 0 or a start-up estimate).
-pub const STATUS_NO_MODEL: u32 = 1 << 0;
-/// `CompSample::status` bit 1: moving; the drift is forecast from the last static state.
-pub const STATUS_MOVING: u32 = 1 << 1;
-/// `CompSample::status` bit 2: the input was rejected (e.g. non-finite rate); answered anyway.
-pub const STATUS_REJECTED: u32 = 1 << 2;
-/// `CompSample::status` bit 3: a gap (missing `seq` or time jump) lies before this sample.
-pub const STATUS_GAP: u32 = 1 << 3;
+/// `RawSample::flags` bit 0 (the publisher says the vehicle is moving) and the
+/// `CompSample::status` bits are the pipeline's own: one definition serves both.
+pub use crate::stream::sample::{
+    FLAG_MOVING as RAW_FLAG_MOVING, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED,
+};
 
 /// One raw gyro sample from the INS, on the `gyrocomp/raw` service (56 bytes).
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
