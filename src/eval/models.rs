@@ -25,7 +25,7 @@ pub enum ModelKind {
     Lssvm,
     /// The paper's BP-ANN (3-10-1, Levenberg–Marquardt).
     BpAnn,
-    /// x̂[t+1] = x[t].
+    /// `x̂[t+1] = x[t]`.
     Persistence,
     /// AR(p), order by AIC.
     Ar,

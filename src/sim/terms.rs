@@ -60,9 +60,9 @@ pub fn gauss_markov_averaged(corr_s: f64, dt: f64) -> bool {
 /// First-order Gauss–Markov process dx = −x/T·dt + √(2σ²/T)·dW, exactly discretised and started
 /// from its stationary distribution.
 ///
-/// Point-sampled: x[k+1] = φ·x[k] + σ·√(1 − φ²)·w[k], φ = e^(−dt/T). Interval means (for T below
+/// Point-sampled: `x[k+1] = φ·x[k] + σ·√(1 − φ²)·w[k]`, φ = e^(−dt/T). Interval means (for T below
 /// [`AVERAGE_BELOW_SAMPLES`] samples): the output of sample k is (1/dt)∫ x over the interval, drawn
-/// jointly with the next state from their exact bivariate normal law given x[k] (two normal
+/// jointly with the next state from their exact bivariate normal law given `x[k]` (two normal
 /// deviates per sample), so the Allan variance at τ = m·dt is the continuous-time one exactly.
 #[derive(Debug, Clone)]
 pub struct GaussMarkov {
@@ -121,7 +121,7 @@ impl GaussMarkov {
     }
 }
 
-/// Random walk started at 0: b[k+1] = b[k] + step·w[k].
+/// Random walk started at 0: `b[k+1] = b[k] + step·w[k]`.
 #[derive(Debug, Clone)]
 pub struct RandomWalk {
     step: f64,

@@ -3,7 +3,7 @@
 //! The decomposition low-pass taps below are PyWavelets 1.8 `Wavelet('dbN').dec_lo`, printed at
 //! full `f64` precision. The other three filters follow from it as in PyWavelets:
 //! `rec_lo = reverse(dec_lo)`, `dec_hi[k] = (-1)^(k+1) rec_lo[k]`, `rec_hi = reverse(dec_hi)`.
-//! Tests check orthonormality (Σh = √2, Σh² = 1, Σ h[k]h[k+2j] = 0) independently of the table.
+//! Tests check orthonormality (`Σh = √2`, `Σh² = 1`, `Σ h[k]h[k+2j] = 0`) independently of the table.
 
 use std::fmt;
 
