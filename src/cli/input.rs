@@ -16,12 +16,14 @@ pub struct Series {
     pub values: Vec<f64>,
     /// Sample rate, Hz, from the time column (or the `--rate` override).
     pub rate_hz: f64,
+    /// The `temp_c` column when the file has one (NaN where a row leaves it empty).
+    pub temp_c: Option<Vec<f64>>,
 }
 
 /// Reads `column` of the CSV at `path`; the sample rate comes from `rate_override` or the time
 /// column, and must be positive and finite.
 pub fn load_series(path: &Path, column: &str, rate_override: Option<f64>) -> Result<Series, CliError> {
-    let Table { t_s, mut columns, .. } = read_table(path, &[column], ReadOptions::default())?;
+    let Table { t_s, mut columns, temp_c, .. } = read_table(path, &[column], ReadOptions::default())?;
     let values = columns.pop().expect("one column was asked for");
     let rate_hz = match rate_override {
         Some(r) => r,
@@ -35,7 +37,7 @@ pub fn load_series(path: &Path, column: &str, rate_override: Option<f64>) -> Res
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(format!("{}: sample rate {rate_hz} Hz is not positive and finite", path.display()).into());
     }
-    Ok(Series { t_s, values, rate_hz })
+    Ok(Series { t_s, values, rate_hz, temp_c })
 }
 
 /// Reads and validates the configuration file at `path`, or returns the defaults without one.

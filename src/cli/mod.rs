@@ -9,6 +9,9 @@ pub mod eval;
 pub mod input;
 pub mod motion;
 pub mod sim;
+pub mod simgap;
+pub mod simgap_report;
+pub mod simgap_selftest;
 
 use clap::{Parser, Subcommand};
 
@@ -44,6 +47,9 @@ pub enum Command {
     Allan(allan::AllanArgs),
     /// Evaluate the paper's models beside honest baselines (paper protocol).
     Eval(eval::EvalArgs),
+    /// Sim-to-real gap: where a simulation differs from a recording, which unmodelled effect
+    /// explains it, how far the gap shrinks on a held-out part.
+    Simgap(simgap::SimgapArgs),
 }
 
 /// Runs the parsed command line.
@@ -56,6 +62,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Cc(args) => cc::run(&args),
         Command::Allan(args) => allan::run(&args),
         Command::Eval(args) => eval::run(&args),
+        Command::Simgap(args) => simgap::run(&args),
     }
 }
 

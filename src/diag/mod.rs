@@ -1,7 +1,11 @@
-//! Diagnostics of gyro noise: the overlapping Allan deviation ([`allan`]) and the IEEE Std 952
-//! noise-term fit ([`noise_fit`]). Pure numerics: no files, no printing.
+//! Diagnostics of gyro noise: the overlapping Allan deviation ([`allan`]), the IEEE Std 952
+//! noise-term fit ([`noise_fit`]), the Welch PSD ([`psd`], on the FFT of [`fft`]) and the
+//! sim-to-real gap diagnosis ([`simgap`]). Pure numerics: no files, no printing.
 
 pub mod allan;
+pub mod fft;
 pub mod noise_fit;
 pub mod noise_model;
 pub mod pairwise;
+pub mod psd;
+pub mod simgap;

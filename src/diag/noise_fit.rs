@@ -118,6 +118,45 @@ pub fn fit_allan(allan: &AllanDeviation, weighting: Weighting) -> Result<NoiseFi
 /// Points with a zero or non-finite σ, a non-positive or non-finite τ, or a weight that is not
 /// positive and finite are left out.
 pub fn fit_noise_model(tau_s: &[f64], adev: &[f64], weights: &[f64]) -> Result<NoiseFit, NoiseFitError> {
+    let fit = fit_terms(tau_s, adev, weights, |i| basis(tau_s[i]), [true; TERMS])?;
+    Ok(NoiseFit {
+        model: NoiseModel::from_squares(fit.squares),
+        active: fit.active,
+        weighted_rss: fit.weighted_rss,
+        rms_relative_residual: fit.rms_relative_residual,
+        points: fit.points,
+    })
+}
+
+/// The result of [`fit_terms`]: non-negative coefficients of `K` Allan-variance basis functions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TermFit<const K: usize> {
+    /// The coefficient of each basis function (for the IEEE basis: Q², N², B², K², R²); ≥ 0.
+    pub squares: [f64; K],
+    /// Which basis functions are free (may be non-zero) in the chosen subset.
+    pub active: [bool; K],
+    /// Weighted residual Σ wᵢ(σ²_model/σ²ᵢ − 1)², weights scaled so that max wᵢ = 1.
+    pub weighted_rss: f64,
+    /// √(weighted_rss / Σ wᵢ).
+    pub rms_relative_residual: f64,
+    /// Number of τ points used.
+    pub points: usize,
+}
+
+/// The fit of [`fit_noise_model`] for any basis of `K` functions (2^K − 1 subsets; meant for a
+/// handful): σ²(τᵢ) ≈ Σⱼ cⱼ·`basis_at(i)`ⱼ with cⱼ ≥ 0, only the terms with `allowed[j]` free (the
+/// others fixed at zero), by the same exact subset-enumeration NNLS on the weighted relative
+/// Allan-variance residual (module docs). `basis_at` receives the index of a point in the input
+/// slices, so a basis may depend on more than τ (e.g. the averaging factor of a sampled
+/// Gauss–Markov process). `fit_noise_model` is this with the IEEE basis and every term allowed;
+/// an exact flicker column or an extra Gauss–Markov column are other uses.
+pub fn fit_terms<const K: usize>(
+    tau_s: &[f64],
+    adev: &[f64],
+    weights: &[f64],
+    basis_at: impl Fn(usize) -> [f64; K],
+    allowed: [bool; K],
+) -> Result<TermFit<K>, NoiseFitError> {
     if tau_s.len() != adev.len() || tau_s.len() != weights.len() {
         return Err(NoiseFitError::LengthMismatch { tau: tau_s.len(), adev: adev.len(), weights: weights.len() });
     }
@@ -135,14 +174,19 @@ pub fn fit_noise_model(tau_s: &[f64], adev: &[f64], weights: &[f64]) -> Result<N
     let total_weight: f64 = weights.iter().sum();
     // Row i: √wᵢ·basis(τᵢ)/σ²ᵢ · c ≈ √wᵢ.
     let rows = keep.len();
-    let design = DMatrix::from_fn(rows, TERMS, |r, j| {
+    let bases: Vec<[f64; K]> = keep.iter().map(|&i| basis_at(i)).collect();
+    let design = DMatrix::from_fn(rows, K, |r, j| {
         let i = keep[r];
-        weights[r].sqrt() * basis(tau_s[i])[j] / (adev[i] * adev[i])
+        weights[r].sqrt() * bases[r][j] / (adev[i] * adev[i])
     });
     let rhs = DVector::from_iterator(rows, weights.iter().map(|w| w.sqrt()));
+    let allowed_mask: u32 = (0..K).filter(|&j| allowed[j]).map(|j| 1 << j).sum();
 
-    let mut candidates: Vec<(f64, u32, [f64; TERMS])> = Vec::new();
-    for mask in 1u32..(1 << TERMS) {
+    let mut candidates: Vec<(f64, u32, [f64; K])> = Vec::new();
+    for mask in 1u32..(1 << K) {
+        if mask & !allowed_mask != 0 {
+            continue;
+        }
         if let Some(c) = solve_subset(&design, &rhs, mask) {
             let fitted = &design * DVector::from_column_slice(&c);
             let rss = (fitted - &rhs).norm_squared();
@@ -155,8 +199,8 @@ pub fn fit_noise_model(tau_s: &[f64], adev: &[f64], weights: &[f64]) -> Result<N
         .filter(|c| c.0 <= best_rss + TIE_TOL * total_weight)
         .min_by(|a, b| a.1.count_ones().cmp(&b.1.count_ones()).then(a.0.total_cmp(&b.0)))
         .ok_or(NoiseFitError::NoSolution)?;
-    Ok(NoiseFit {
-        model: NoiseModel::from_squares(c),
+    Ok(TermFit {
+        squares: c,
         active: std::array::from_fn(|j| mask & (1 << j) != 0),
         weighted_rss: rss,
         rms_relative_residual: (rss / total_weight).sqrt(),
@@ -166,8 +210,8 @@ pub fn fit_noise_model(tau_s: &[f64], adev: &[f64], weights: &[f64]) -> Result<N
 
 /// Unconstrained least squares on the terms in `mask` (others fixed at zero); `None` when the
 /// subset is rank-deficient, has more terms than points, or any coefficient comes out negative.
-fn solve_subset(design: &DMatrix<f64>, rhs: &DVector<f64>, mask: u32) -> Option<[f64; TERMS]> {
-    let cols: Vec<usize> = (0..TERMS).filter(|j| mask & (1 << j) != 0).collect();
+fn solve_subset<const K: usize>(design: &DMatrix<f64>, rhs: &DVector<f64>, mask: u32) -> Option<[f64; K]> {
+    let cols: Vec<usize> = (0..K).filter(|j| mask & (1 << j) != 0).collect();
     if cols.len() > design.nrows() {
         return None;
     }
@@ -183,7 +227,7 @@ fn solve_subset(design: &DMatrix<f64>, rhs: &DVector<f64>, mask: u32) -> Option<
         return None;
     }
     let x = svd.solve(rhs, 0.0).ok()?;
-    let mut c = [0.0; TERMS];
+    let mut c = [0.0; K];
     for (k, &j) in cols.iter().enumerate() {
         c[j] = x[k] / norms[k];
         if !(c[j].is_finite() && c[j] >= 0.0) {

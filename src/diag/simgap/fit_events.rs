@@ -1,0 +1,232 @@
+//! Fits of the effects made of events or of the value grid: bias jumps, spikes, quantisation.
+//!
+//! - **Bias jumps**: on 1 s means y, the difference of the means of the W blocks after and before
+//!   each point, d[i] = mean(y[i..i+W]) − mean(y[i−W..i]), W = 60 s (at most an eighth of the
+//!   part). A jump of size s shows as a peak |d| ≈ |s|; the slow wander of the bias (flicker, rate
+//!   random walk) does not. Peaks above [`JUMP_SIGMAS`] robust σ of d (1.4826·MAD), at least W
+//!   apart, are the jumps.
+//! - **Spikes**: r[k] = x[k] − median(x[k−2..=k+2]); samples with |r| above [`SPIKE_SIGMAS`]
+//!   robust σ of r that are the largest |r| within ±2 samples.
+//! - **Quantisation**: the values sit on a grid when there are few distinct ones (at most a
+//!   quarter of the samples) and at least 99.9 % of them are whole multiples of the smallest gap
+//!   between distinct values (relative to the smallest value).
+
+use super::effects::{EffectParams, FittedEffect, Fitted};
+use super::robust::{block_means, mad_sigma};
+
+/// Threshold of a jump, robust σ of the window difference.
+pub const JUMP_SIGMAS: f64 = 4.5;
+/// Window of the jump detector, s.
+const JUMP_WINDOW_S: f64 = 60.0;
+/// Threshold of a spike, robust σ of the residual from the 5-sample median.
+pub const SPIKE_SIGMAS: f64 = 5.5;
+/// Largest share of distinct values on a grid.
+const GRID_MAX_DISTINCT: f64 = 0.25;
+/// Share of distinct values that must sit on the grid.
+const GRID_MIN_ON: f64 = 0.999;
+
+/// The window differences of the jump detector (module docs) of one series.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepScores {
+    /// Samples per block (about one second).
+    pub block: usize,
+    /// Window, blocks.
+    pub window: usize,
+    /// Block index of each difference.
+    pub positions: Vec<usize>,
+    /// The differences d, deg/s.
+    pub d: Vec<f64>,
+    /// Robust σ of d (1.4826·MAD).
+    pub sigma: f64,
+}
+
+impl StepScores {
+    /// The window differences of `x`; `None` when fewer than 3 blocks fit in a window or `x` is
+    /// constant.
+    pub fn of(x: &[f64], rate_hz: f64) -> Option<StepScores> {
+        let block = (rate_hz.round() as usize).max(1);
+        let y = block_means(x, block);
+        let w = ((JUMP_WINDOW_S * rate_hz / block as f64).round() as usize).min(y.len() / 8);
+        if w < 3 {
+            return None;
+        }
+        let mut prefix = vec![0.0; y.len() + 1];
+        for (i, v) in y.iter().enumerate() {
+            prefix[i + 1] = prefix[i] + v;
+        }
+        let positions: Vec<usize> = (w..=y.len() - w).collect();
+        let d: Vec<f64> = positions
+            .iter()
+            .map(|&i| (prefix[i + w] - prefix[i]) / w as f64 - (prefix[i] - prefix[i - w]) / w as f64)
+            .collect();
+        let sigma = mad_sigma(&d);
+        (sigma > 0.0).then_some(StepScores { block, window: w, positions, d, sigma })
+    }
+
+    /// The largest |d| in robust σ: the strongest step of the series.
+    pub fn strongest(&self) -> f64 {
+        self.d.iter().fold(0.0, |m: f64, v| m.max(v.abs())) / self.sigma
+    }
+}
+
+/// Bias jumps (module docs).
+pub fn fit_jumps(x: &[f64], rate_hz: f64) -> Fitted {
+    let Some(StepScores { block, window: w, positions, d, sigma }) = StepScores::of(x, rate_hz) else {
+        return Fitted::NotApplicable("training part too short for the jump detector, or constant".into());
+    };
+    let mut order: Vec<usize> = (0..d.len()).filter(|&j| d[j].abs() > JUMP_SIGMAS * sigma).collect();
+    order.sort_by(|&a, &b| d[b].abs().total_cmp(&d[a].abs()));
+    let mut jumps: Vec<(usize, f64)> = Vec::new();
+    for j in order {
+        let i = positions[j];
+        if jumps.iter().all(|&(k, _)| k.abs_diff(i * block) >= w * block) {
+            jumps.push((i * block, d[j]));
+        }
+    }
+    if jumps.is_empty() {
+        return Fitted::NotApplicable(format!("no step above {JUMP_SIGMAS} robust sigma"));
+    }
+    jumps.sort_by_key(|j| j.0);
+    let hours = x.len() as f64 / rate_hz / 3600.0;
+    let size = (jumps.iter().map(|j| j.1 * j.1).sum::<f64>() / jumps.len() as f64).sqrt();
+    let mut part = vec![0.0; x.len()];
+    let mut level = 0.0;
+    let mut next = jumps.iter().peekable();
+    for (k, p) in part.iter_mut().enumerate() {
+        while next.peek().is_some_and(|j| j.0 <= k) {
+            level += next.next().map_or(0.0, |j| j.1);
+        }
+        *p = level;
+    }
+    Fitted::Found(FittedEffect {
+        params: EffectParams::BiasJumps { rate_per_h: jumps.len() as f64 / hours, size_dps: size, detected: jumps.len() },
+        training_part: Some(part),
+    })
+}
+
+/// Residual of each sample from the median of its 5-sample neighbourhood (0 at the two ends).
+fn median5_residual(x: &[f64]) -> Vec<f64> {
+    let mut r = vec![0.0; x.len()];
+    for k in 2..x.len().saturating_sub(2) {
+        let mut w = [x[k - 2], x[k - 1], x[k], x[k + 1], x[k + 2]];
+        w.sort_unstable_by(f64::total_cmp);
+        r[k] = x[k] - w[2];
+    }
+    r
+}
+
+/// Spikes (module docs).
+pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
+    let r = median5_residual(x);
+    let sigma = mad_sigma(&r);
+    if !(sigma > 0.0) {
+        return Fitted::NotApplicable("constant series".into());
+    }
+    let limit = SPIKE_SIGMAS * sigma;
+    let spikes: Vec<usize> = (2..x.len().saturating_sub(2))
+        .filter(|&k| r[k].abs() > limit && (k - 2..=k + 2).all(|j| r[j].abs() <= r[k].abs()))
+        .collect();
+    if spikes.is_empty() {
+        return Fitted::NotApplicable(format!("no sample beyond {SPIKE_SIGMAS} robust sigma"));
+    }
+    let hours = x.len() as f64 / rate_hz / 3600.0;
+    let size = spikes.iter().map(|&k| r[k].abs()).sum::<f64>() / spikes.len() as f64;
+    let mut part = vec![0.0; x.len()];
+    for &k in &spikes {
+        part[k] = r[k];
+    }
+    Fitted::Found(FittedEffect {
+        params: EffectParams::Spikes { rate_per_h: spikes.len() as f64 / hours, size_dps: size, detected: spikes.len() },
+        training_part: Some(part),
+    })
+}
+
+/// The grid step of the values of `x`, when they sit on one (module docs).
+pub fn detect_grid(x: &[f64]) -> Option<f64> {
+    let scale = x.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    if x.len() < 16 || !(scale > 0.0) {
+        return None;
+    }
+    let tol = 1e-9 * scale;
+    let mut sorted = x.to_vec();
+    sorted.sort_unstable_by(f64::total_cmp);
+    let mut distinct: Vec<f64> = Vec::new();
+    for v in sorted {
+        if distinct.last().is_none_or(|&last| v - last > tol) {
+            distinct.push(v);
+        }
+    }
+    if distinct.len() < 3 || distinct.len() as f64 > GRID_MAX_DISTINCT * x.len() as f64 {
+        return None;
+    }
+    let smallest = distinct.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+    let span = distinct[distinct.len() - 1] - distinct[0];
+    let step = span / (span / smallest).round();
+    let on = distinct
+        .iter()
+        .filter(|&&v| {
+            let k = (v - distinct[0]) / step;
+            (k - k.round()).abs() < 1e-3
+        })
+        .count();
+    (on as f64 >= GRID_MIN_ON * distinct.len() as f64).then_some(step)
+}
+
+/// Quantisation: the grid step of the values, when there is one.
+pub fn fit_quantization(x: &[f64]) -> Fitted {
+    match detect_grid(x) {
+        Some(step_dps) => {
+            Fitted::Found(FittedEffect { params: EffectParams::Quantization { step_dps }, training_part: None })
+        }
+        None => Fitted::NotApplicable("the values are not on a grid".into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn noise(n: usize, seed: u64, amplitude: f64) -> Vec<f64> {
+        let mut state = seed;
+        (0..n)
+            .map(|_| {
+                state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                amplitude * ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn finds_jumps_and_their_sizes() {
+        let mut x = noise(36_000, 1, 0.4);
+        for (k, v) in x.iter_mut().enumerate() {
+            *v += if k >= 10_000 { 0.08 } else { 0.0 } + if k >= 25_000 { -0.05 } else { 0.0 };
+        }
+        let Fitted::Found(e) = fit_jumps(&x, 10.0) else { panic!() };
+        let EffectParams::BiasJumps { detected, size_dps, .. } = e.params else { panic!() };
+        assert_eq!(detected, 2);
+        assert!((size_dps - ((0.08f64.powi(2) + 0.05f64.powi(2)) / 2.0).sqrt()).abs() < 0.01);
+        let part = e.training_part.unwrap();
+        assert!(part[5_000].abs() < 1e-12 && (part[20_000] - 0.08).abs() < 0.01);
+        assert!(matches!(fit_jumps(&noise(36_000, 2, 0.4), 10.0), Fitted::NotApplicable(_)));
+    }
+
+    #[test]
+    fn finds_spikes() {
+        let mut x = noise(20_000, 3, 0.4);
+        for k in [100, 5000, 12345] {
+            x[k] += 2.0;
+        }
+        let Fitted::Found(e) = fit_spikes(&x, 10.0) else { panic!() };
+        assert!(matches!(e.params, EffectParams::Spikes { detected: 3, .. }), "{:?}", e.params);
+        assert!(matches!(fit_spikes(&noise(20_000, 4, 0.4), 10.0), Fitted::NotApplicable(_)));
+    }
+
+    #[test]
+    fn finds_a_grid_and_only_a_grid() {
+        let x: Vec<f64> = noise(5000, 5, 1.0).iter().map(|v| (v / 0.005).round() * 0.005 + 0.4).collect();
+        let step = detect_grid(&x).unwrap();
+        assert!((step - 0.005).abs() < 1e-12, "{step}");
+        assert_eq!(detect_grid(&noise(5000, 6, 1.0)), None);
+    }
+}

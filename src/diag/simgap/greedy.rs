@@ -1,0 +1,108 @@
+//! Which effect explains the gap: ranking, the acceptance rule, and the greedy combination.
+//!
+//! **Acceptance of a step** ([`judge`]): adding an effect to a reference model is accepted when at
+//! least one part (training, hold-out) of the reference shows a significant gap, and on each part
+//! - with a significant gap: the effect removes at least `min_share` of the excess gap² (gap² −
+//!   the null median², what a matching simulation leaves), or leaves no significant gap there;
+//! - without one: it does not create one.
+//!
+//! **Ranking**: by the mean of the training and hold-out gaps (best first).
+//!
+//! **Greedy combination**: start from the baseline; take the best-ranked effect whose addition is
+//! accepted; add it, refit, and repeat with the remaining effects (only those that lowered the mean
+//! gap on their own) while the model still leaves a significant gap, up to a limit on the number
+//! of effects. Whether the result *explains* the gap is decided on the hold-out part
+//! ([`super::diagnose::Verdict`]).
+
+use super::SimgapError;
+use super::effects::EffectKind;
+use super::ensemble::Evaluation;
+use super::gap::PartComparison;
+
+/// How an evaluation compares with a reference.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Judgement {
+    /// Whether adding the effect to the reference is accepted (module docs).
+    pub explains: bool,
+    /// Share of the training excess gap² removed (`None` without a significant training gap).
+    pub share_train: Option<f64>,
+    /// Share of the hold-out excess gap² removed (`None` without a significant hold-out gap).
+    pub share_hold: Option<f64>,
+}
+
+fn part_share(reference: &PartComparison, model: &PartComparison) -> Option<f64> {
+    let squared = |p: &PartComparison| p.score.gap * p.score.gap;
+    (reference.significant && reference.excess() > 0.0)
+        .then(|| (squared(reference) - squared(model)) / reference.excess())
+}
+
+fn part_ok(reference: &PartComparison, model: &PartComparison, share: Option<f64>, min_share: f64) -> bool {
+    if reference.significant { share.is_some_and(|s| s >= min_share) || !model.significant } else { !model.significant }
+}
+
+/// Judges `model` against `reference` (module docs).
+pub fn judge(reference: &Evaluation, model: &Evaluation, min_share: f64) -> Judgement {
+    let share_train = part_share(&reference.train, &model.train);
+    let share_hold = part_share(&reference.hold, &model.hold);
+    let explains = reference.significant()
+        && part_ok(&reference.train, &model.train, share_train, min_share)
+        && part_ok(&reference.hold, &model.hold, share_hold, min_share);
+    Judgement { explains, share_train, share_hold }
+}
+
+/// The outcome of the greedy combination.
+#[derive(Debug, Clone)]
+pub struct Combination {
+    /// The effects kept, in the order they were added.
+    pub chosen: Vec<EffectKind>,
+    /// The evaluation of the final model (the baseline's when nothing was kept).
+    pub after: Evaluation,
+    /// Number of combined models evaluated.
+    pub evaluations: usize,
+}
+
+/// Greedy combination (module docs). `ranked` holds the applicable effects best first with their
+/// single-effect evaluations; `evaluate` builds and evaluates the model of a set of effects.
+pub fn combine(
+    baseline: &Evaluation,
+    ranked: &[(EffectKind, &Evaluation)],
+    min_share: f64,
+    max_effects: usize,
+    mut evaluate: impl FnMut(&[EffectKind]) -> Result<Evaluation, SimgapError>,
+) -> Result<Combination, SimgapError> {
+    let mut chosen: Vec<EffectKind> = Vec::new();
+    let mut current = baseline.clone();
+    let mut evaluations = 0;
+    while current.significant() && chosen.len() < max_effects {
+        let mut added = None;
+        for &(kind, single) in ranked {
+            if chosen.contains(&kind) {
+                continue;
+            }
+            let candidate = if chosen.is_empty() {
+                single.clone()
+            } else {
+                if single.mean_gap() >= baseline.mean_gap() {
+                    continue;
+                }
+                let mut set = chosen.clone();
+                set.push(kind);
+                evaluations += 1;
+                evaluate(&set)?
+            };
+            if judge(&current, &candidate, min_share).explains {
+                added = Some((kind, candidate));
+                break;
+            }
+        }
+        match added {
+            Some((kind, evaluation)) => {
+                tracing::debug!("greedy: kept {} (mean gap {:.3})", kind.name(), evaluation.mean_gap());
+                chosen.push(kind);
+                current = evaluation;
+            }
+            None => break,
+        }
+    }
+    Ok(Combination { chosen, after: current, evaluations })
+}

@@ -1,0 +1,81 @@
+//! Sim-to-real gap diagnosis (design.md "Sim-to-real diagnosis"; `gyrocomp simgap`): where a
+//! simulation of a gyro differs from a real recording, which unmodelled effect explains the
+//! difference, and how far the gap shrinks once that effect is simulated, checked on a held-out
+//! part of the recording.
+//!
+//! - [`robust`]: quantiles, median, MAD, block means, kurtosis; [`robust_allan`]: the median-based
+//!   Allan deviation the noise terms are fitted to.
+//! - [`stats`]: the statistics compared (Allan deviation per τ band, PSD bands, spectral line,
+//!   distribution, compensation, bias trajectory).
+//! - [`band`]: Monte-Carlo bands and the standard score of a value in them.
+//! - [`gap`]: the scalar gap, its null distribution from the ensemble, significance.
+//! - [`model`], [`baseline`], [`refit`]: the simulated model, the IEEE Std 952 baseline fit and
+//!   its refit once fitted effects are removed.
+//! - [`effects`] (catalogue) with [`fit_time`], [`fit_spectral`], [`fit_events`] (the fits).
+//! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
+//!   [`uncertainty`]: the noise terms' uncertainty carried into it.
+//! - [`greedy`]: acceptance, ranking and the greedy combination of effects.
+//! - [`diagnose`]: the whole diagnosis of one recording.
+//! - [`selftest`]: recordings with a known injected effect, and the confusion table.
+//!
+//! Pure numerics: nothing here reads or writes files.
+
+pub mod band;
+pub mod baseline;
+pub mod diagnose;
+pub mod effects;
+pub mod ensemble;
+pub mod fit_events;
+pub mod fit_spectral;
+pub mod fit_time;
+pub mod gap;
+pub mod greedy;
+pub mod model;
+pub mod refit;
+pub mod robust;
+pub mod robust_allan;
+pub mod selftest;
+pub mod stats;
+pub mod uncertainty;
+
+pub use diagnose::{Baseline, Diagnosis, EffectResult, Recording, Settings, Verdict, diagnose};
+pub use effects::{EffectKind, EffectParams};
+
+use crate::diag::allan::AllanError;
+use crate::diag::noise_fit::NoiseFitError;
+use crate::diag::psd::PsdError;
+use crate::sim::ConfigError;
+
+/// Why a diagnosis could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimgapError {
+    /// A part of the recording is too short for the statistics.
+    #[error("{samples} samples in a part of the recording; at least {need} are needed")]
+    TooShort {
+        /// Samples in the part.
+        samples: usize,
+        /// Samples needed.
+        need: usize,
+    },
+    /// A setting or input is out of range.
+    #[error("{0}")]
+    BadSetting(String),
+    /// The model uses the temperature but the recording has none.
+    #[error("the model needs the recorded temperature (temp_c), which is absent")]
+    NoTemperature,
+    /// The Allan deviation failed.
+    #[error("Allan deviation: {0}")]
+    Allan(#[from] AllanError),
+    /// The PSD failed.
+    #[error("PSD: {0}")]
+    Psd(#[from] PsdError),
+    /// The noise-term fit failed.
+    #[error("noise-term fit: {0}")]
+    NoiseFit(#[from] NoiseFitError),
+    /// The simulator refused the model.
+    #[error("simulator: {0}")]
+    Config(#[from] ConfigError),
+    /// Another numerical failure.
+    #[error("{0}")]
+    Numerical(String),
+}
