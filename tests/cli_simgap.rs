@@ -52,7 +52,8 @@ fn names_an_injected_sinusoid_with_the_documented_json() {
     assert!(!entries.is_empty());
     let mut last = f64::INFINITY;
     for e in entries {
-        let (real, lo, hi) = (e["real"].as_f64().unwrap(), e["sim_lo"].as_f64().unwrap(), e["sim_hi"].as_f64().unwrap());
+        let (real, lo, hi) =
+            (e["real"].as_f64().unwrap(), e["sim_lo"].as_f64().unwrap(), e["sim_hi"].as_f64().unwrap());
         assert!(real < lo || real > hi, "{e}");
         assert!(e["statistic"].is_string() && e["band"].is_string());
         let z = e["z"].as_f64().unwrap().abs();
@@ -64,8 +65,7 @@ fn names_an_injected_sinusoid_with_the_documented_json() {
     let effects = doc["effects"].as_array().unwrap();
     assert_eq!(effects.len(), 8);
     assert_eq!(effects[0]["name"], "sinusoid");
-    let score =
-        |e: &Value| e["gap"].as_f64().map_or(f64::INFINITY, |g| 0.5 * (g + e["gap_holdout"].as_f64().unwrap()));
+    let score = |e: &Value| e["gap"].as_f64().map_or(f64::INFINITY, |g| 0.5 * (g + e["gap_holdout"].as_f64().unwrap()));
     assert!(effects.windows(2).all(|w| score(&w[0]) <= score(&w[1])));
     // The fitted frequency is the injected one ("… at F Hz").
     let injected: f64 = magnitudes.rsplit(" at ").next().unwrap().trim_end_matches(" Hz").parse().unwrap();
@@ -78,7 +78,8 @@ fn same_seed_same_answer_whatever_the_threads() {
     let (csv, _) = recording(Injected::Effect(EffectKind::Spikes), 1500.0, 4);
     let path = csv.path().to_str().unwrap();
     let run = |threads: &str, seed: &str| {
-        let out = gyrocomp(&["simgap", "--real", path, "--ensemble", "8", "--json", "--threads", threads, "--seed", seed]);
+        let out =
+            gyrocomp(&["simgap", "--real", path, "--ensemble", "8", "--json", "--threads", threads, "--seed", seed]);
         json(&out);
         out.stdout
     };

@@ -126,18 +126,33 @@ impl Plot {
     }
 
     fn band(&mut self, x: &[f64], lo: &[f64], hi: &[f64], fill: &str) {
-        let mut points: Vec<String> = x.iter().zip(hi).map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))).collect();
+        let mut points: Vec<String> =
+            x.iter().zip(hi).map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))).collect();
         points.extend(x.iter().zip(lo).rev().map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))));
-        let _ = write!(self.svg, r#"<polygon points="{}" fill="{fill}" fill-opacity="0.45" stroke="none"/>"#, points.join(" "));
+        let _ = write!(
+            self.svg,
+            r#"<polygon points="{}" fill="{fill}" fill-opacity="0.45" stroke="none"/>"#,
+            points.join(" ")
+        );
     }
 
     fn line(&mut self, x: &[f64], y: &[f64], colour: &str, dashed: bool, dots: bool) {
-        let points: Vec<String> = x.iter().zip(y).map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))).collect();
+        let points: Vec<String> =
+            x.iter().zip(y).map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))).collect();
         let dash = if dashed { r#" stroke-dasharray="4 3""# } else { "" };
-        let _ = write!(self.svg, r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.6"{dash}/>"#, points.join(" "));
+        let _ = write!(
+            self.svg,
+            r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.6"{dash}/>"#,
+            points.join(" ")
+        );
         if dots {
             for (&a, &b) in x.iter().zip(y) {
-                let _ = write!(self.svg, r#"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="{colour}"/>"#, self.px(a), self.py(b));
+                let _ = write!(
+                    self.svg,
+                    r#"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="{colour}"/>"#,
+                    self.px(a),
+                    self.py(b)
+                );
             }
         }
     }
@@ -308,7 +323,14 @@ pub fn write_report(dir: &Path, args: &SimgapArgs, d: &Diagnosis) -> Result<Path
         let psd = series(info, before, after, "psd");
         html.push_str(&band_plot(&format!("PSD bands, {part}"), &psd, "Hz", "(deg/s)^2/Hz", true, &after_label));
         let traj = series(info, before, after, "bias_trajectory");
-        html.push_str(&band_plot(&format!("Bias trajectory, {part}"), &traj, "t (s)", "deg/s from mean", false, &after_label));
+        html.push_str(&band_plot(
+            &format!("Bias trajectory, {part}"),
+            &traj,
+            "t (s)",
+            "deg/s from mean",
+            false,
+            &after_label,
+        ));
         html.push_str("</div>");
     }
     let _ = write!(html, "<h2>Which effect</h2>{}", ranking_plot(d));
@@ -325,16 +347,19 @@ pub fn write_report(dir: &Path, args: &SimgapArgs, d: &Diagnosis) -> Result<Path
             e.z
         );
     }
-    html.push_str("</table><h2>Effects</h2><table><tr><th>effect</th><th>parameters</th><th>gap training</th><th>gap hold-out</th><th>explains</th></tr>");
+    html.push_str("</table><h2>Effects</h2><table><tr><th>effect</th><th>parameters</th><th>gap training</th><th>gap hold-out</th><th>accepted alone</th></tr>");
     for e in &d.effects {
         let params = e.params.as_ref().map_or_else(
             || e.note.clone().unwrap_or_default(),
             |p| p.named().iter().map(|(k, v)| format!("{k} = {v:.4e}")).collect::<Vec<_>>().join(", "),
         );
-        let (g, h) = e.evaluation.as_ref().map_or((f64::NAN, f64::NAN), |v| (v.train.score.gap, v.hold.score.gap));
+        let (g, h) = e
+            .evaluation
+            .as_ref()
+            .map_or(("–".to_owned(), "–".to_owned()), |v| (format!("{:.3}", v.train.score.gap), format!("{:.3}", v.hold.score.gap)));
         let _ = write!(
             html,
-            "<tr><td>{}</td><td>{}</td><td>{g:.3}</td><td>{h:.3}</td><td>{}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{g}</td><td>{h}</td><td>{}</td></tr>",
             e.kind.name(),
             escape(&params),
             if e.judgement.is_some_and(|j| j.explains) { "yes" } else { "no" }

@@ -20,24 +20,37 @@ pub fn run_selftest_cli(args: &SimgapArgs) -> Result<(), CliError> {
         seed: args.seed,
         diagnosis: args.settings(),
     };
+    let kinds = match &args.only {
+        Some(names) => names
+            .iter()
+            .map(|n| {
+                Injected::from_name(n).ok_or_else(|| format!("--only: unknown kind `{n}` (effect names, none, chirp)"))
+            })
+            .collect::<Result<Vec<_>, _>>()?,
+        None => Injected::all(),
+    };
     let mut out = std::io::stdout().lock();
     if !args.json {
         writeln!(
             out,
             "Self-test: {} cases of each of {} kinds, {} s at {} Hz each, magnitudes ×{}, ensembles of {}, seed {}",
             args.cases,
-            Injected::all().len(),
+            kinds.len(),
             args.duration,
             RATE_HZ,
             args.magnitude,
             args.ensemble,
             args.seed
         )?;
-        writeln!(out, "{:<16} {:>4} {:<6} {:<26} {:>15} {:>15}  injected", "case", "#", "ok", "outcome", "gap train", "gap hold")?;
+        writeln!(
+            out,
+            "{:<16} {:>4} {:<6} {:<26} {:>15} {:>15}  injected",
+            "case", "#", "ok", "outcome", "gap train", "gap hold"
+        )?;
     }
     let started = Instant::now();
     let mut failure = None;
-    let results = run_selftest(&settings, |r| {
+    let results = run_selftest(&settings, &kinds, |r| {
         if !args.json
             && let Err(e) = write_case(&mut out, r)
         {

@@ -114,7 +114,8 @@ pub fn fit_noise_terms_to(
 ) -> Result<NoiseTerms, SimgapError> {
     let allan = &allan.select(|m| m <= allan.samples / MIN_INDEPENDENT_AVERAGES);
     let dt = 1.0 / allan.rate_hz;
-    let weights: Vec<f64> = allan.n.iter().zip(&allan.m).map(|(&n, &m)| Weighting::IndependentTerms.weight(n, m)).collect();
+    let weights: Vec<f64> =
+        allan.n.iter().zip(&allan.m).map(|(&n, &m)| Weighting::IndependentTerms.weight(n, m)).collect();
     let floor_to = floor_to_s.max(2.0 * dt);
     let mut floors = Vec::new();
     let mut from = dt;
@@ -122,9 +123,7 @@ pub fn fit_noise_terms_to(
         let column: Vec<f64> = allan
             .m
             .iter()
-            .map(|&m| {
-                flicker_poles(1.0, from, floor_to, dt).iter().map(|&(v, c)| gauss_markov_avar(v, c, dt, m)).sum()
-            })
+            .map(|&m| flicker_poles(1.0, from, floor_to, dt).iter().map(|&(v, c)| gauss_markov_avar(v, c, dt, m)).sum())
             .collect();
         floors.push((from, column));
         from *= 3.0;

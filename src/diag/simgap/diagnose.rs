@@ -15,14 +15,14 @@ use serde::Serialize;
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
-use super::effects::{EffectKind, EffectParams, FittedEffect, Fitted, TrainingData, fit_effect};
+use super::effects::{EffectKind, EffectParams, Fitted, FittedEffect, TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::detect_grid;
 use super::greedy::{Judgement, combine, judge};
 use super::model::SimModel;
 use super::refit::refit_noise_terms;
-use super::uncertainty::bootstrap;
 use super::stats::StatLayout;
+use super::uncertainty::bootstrap;
 use crate::sim::AxisConfig;
 
 /// Settings of a diagnosis.
@@ -44,7 +44,7 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Self { holdout: 0.3, ensemble: 32, seed: 1, min_share: 0.5, max_effects: 3, threads: 1 }
+        Self { holdout: 0.3, ensemble: 32, seed: 1, min_share: 0.25, max_effects: 3, threads: 1 }
     }
 }
 
@@ -90,7 +90,9 @@ impl Verdict {
         match self {
             Verdict::NoSignificantGap => "no significant gap",
             Verdict::Explained => "gap explained",
-            Verdict::PartlyExplained => "gap explained on the hold-out part; a significant gap remains on the training part",
+            Verdict::PartlyExplained => {
+                "gap explained on the hold-out part; a significant gap remains on the training part"
+            }
             Verdict::Unexplained => "gap remains unexplained",
         }
     }
@@ -243,11 +245,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     }
     let before = evaluate(&setup, &baseline_model)?;
     let mut ensembles_run = 1;
-    tracing::info!(
-        "baseline: gap {:.3} (training), {:.3} (hold-out)",
-        before.train.score.gap,
-        before.hold.score.gap
-    );
+    tracing::info!("baseline: gap {:.3} (training), {:.3} (hold-out)", before.train.score.gap, before.hold.score.gap);
 
     let fitted: Vec<(EffectKind, Fitted)> = EffectKind::ALL.iter().map(|&k| (k, fit_effect(k, &data))).collect();
     let mut effects = Vec::new();
@@ -305,7 +303,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     } else {
         Verdict::Explained
     };
-    let chosen = if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) { tried.clone() } else { Vec::new() };
+    let chosen =
+        if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) { tried.clone() } else { Vec::new() };
     let chosen_parts: Vec<&FittedEffect> = tried.iter().filter_map(|&k| found(k)).collect();
     let (after_model, _) = builder.build(&chosen_parts)?;
     let Setup { layout_train, layout_hold, .. } = setup;

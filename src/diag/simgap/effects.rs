@@ -247,15 +247,17 @@ pub fn fit_effect(kind: EffectKind, data: &TrainingData<'_>) -> Fitted {
         EffectKind::BiasJumps => fit_jumps(data.x, data.rate_hz),
         EffectKind::Spikes => fit_spikes(data.x, data.rate_hz),
         EffectKind::Quantization => fit_quantization(data.x),
-        EffectKind::GaussMarkov => match fit_noise_terms(data.x, data.rate_hz, data.x.len() as f64 / data.rate_hz, true) {
-            Ok(terms) => match terms.gauss_markov {
-                Some((sigma_dps, correlation_time_s)) if sigma_dps > 0.0 => Fitted::Found(FittedEffect {
-                    params: EffectParams::GaussMarkov { sigma_dps, correlation_time_s },
-                    training_part: None,
-                }),
-                _ => Fitted::NotApplicable("no Gauss–Markov term improves the Allan fit".into()),
-            },
-            Err(e) => Fitted::NotApplicable(format!("Allan fit failed: {e}")),
-        },
+        EffectKind::GaussMarkov => {
+            match fit_noise_terms(data.x, data.rate_hz, data.x.len() as f64 / data.rate_hz, true) {
+                Ok(terms) => match terms.gauss_markov {
+                    Some((sigma_dps, correlation_time_s)) if sigma_dps > 0.0 => Fitted::Found(FittedEffect {
+                        params: EffectParams::GaussMarkov { sigma_dps, correlation_time_s },
+                        training_part: None,
+                    }),
+                    _ => Fitted::NotApplicable("no Gauss–Markov term improves the Allan fit".into()),
+                },
+                Err(e) => Fitted::NotApplicable(format!("Allan fit failed: {e}")),
+            }
+        }
     }
 }

@@ -11,7 +11,7 @@
 //!   quarter of the samples) and at least 99.9 % of them are whole multiples of the smallest gap
 //!   between distinct values (relative to the smallest value).
 
-use super::effects::{EffectParams, FittedEffect, Fitted};
+use super::effects::{EffectParams, Fitted, FittedEffect};
 use super::robust::{block_means, mad_sigma};
 
 /// Threshold of a jump, robust σ of the window difference.
@@ -99,7 +99,11 @@ pub fn fit_jumps(x: &[f64], rate_hz: f64) -> Fitted {
         *p = level;
     }
     Fitted::Found(FittedEffect {
-        params: EffectParams::BiasJumps { rate_per_h: jumps.len() as f64 / hours, size_dps: size, detected: jumps.len() },
+        params: EffectParams::BiasJumps {
+            rate_per_h: jumps.len() as f64 / hours,
+            size_dps: size,
+            detected: jumps.len(),
+        },
         training_part: Some(part),
     })
 }
@@ -136,7 +140,11 @@ pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
         part[k] = r[k];
     }
     Fitted::Found(FittedEffect {
-        params: EffectParams::Spikes { rate_per_h: spikes.len() as f64 / hours, size_dps: size, detected: spikes.len() },
+        params: EffectParams::Spikes {
+            rate_per_h: spikes.len() as f64 / hours,
+            size_dps: size,
+            detected: spikes.len(),
+        },
         training_part: Some(part),
     })
 }

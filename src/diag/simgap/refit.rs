@@ -55,7 +55,8 @@ pub fn refit_noise_terms(
     let kinds: Vec<_> = effects.iter().filter(|e| e.training_part.is_some()).map(|e| e.params.kind()).collect();
     let mut loss = vec![0.0; allan.len()];
     for j in 0..CORRECTION_MEMBERS {
-        let noise = simulate(&model, fs, train.x.len(), train.temp_c, member_seed(splitmix64(seed ^ CORRECTION_SEED), j))?;
+        let noise =
+            simulate(&model, fs, train.x.len(), train.temp_c, member_seed(splitmix64(seed ^ CORRECTION_SEED), j))?;
         let member: Vec<f64> = noise.iter().zip(&deterministic).map(|(n, d)| n + d).collect();
         let data = TrainingData { x: &member, ..*train };
         let mut again = member.clone();
@@ -76,8 +77,7 @@ pub fn refit_noise_terms(
         adev: allan.adev.iter().zip(&loss).map(|(d, l)| (d * d + l.max(0.0)).sqrt()).collect(),
         ..allan
     };
-    let relative: Vec<String> =
-        loss.iter().zip(&allan.adev).map(|(l, d)| format!("{:.3}", l / (d * d))).collect();
+    let relative: Vec<String> = loss.iter().zip(&allan.adev).map(|(l, d)| format!("{:.3}", l / (d * d))).collect();
     tracing::debug!("refit bias correction, share of the cleaned Allan variance per octave: {}", relative.join(" "));
     fit_noise_terms_to(&corrected, total_s, gauss_markov)
 }

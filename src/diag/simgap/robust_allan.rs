@@ -82,9 +82,7 @@ mod tests {
             state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
             ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
         };
-        (0..n)
-            .map(|_| (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos())
-            .collect()
+        (0..n).map(|_| (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos()).collect()
     }
 
     #[test]
@@ -94,7 +92,11 @@ mod tests {
         let plain = oadev(&x, 10.0, &Taus::Factors(robust.m.clone())).unwrap();
         for i in 0..robust.len() {
             let ratio = robust.adev[i] / plain.adev[i];
-            assert!((ratio - 1.0).abs() < 0.03 + 0.3 / (robust.n[i] as f64 / robust.m[i] as f64).sqrt(), "m {}: {ratio}", robust.m[i]);
+            assert!(
+                (ratio - 1.0).abs() < 0.03 + 0.3 / (robust.n[i] as f64 / robust.m[i] as f64).sqrt(),
+                "m {}: {ratio}",
+                robust.m[i]
+            );
         }
     }
 
@@ -104,7 +106,13 @@ mod tests {
         let robust = robust_oadev(&x, 10.0, 8).unwrap();
         let plain = oadev(&x, 10.0, &Taus::Factors(vec![1, 2, 4])).unwrap();
         for i in 0..3 {
-            assert!((robust.adev[i] / plain.adev[i] - 1.0).abs() < 0.02, "m {}: {} vs {}", robust.m[i], robust.adev[i], plain.adev[i]);
+            assert!(
+                (robust.adev[i] / plain.adev[i] - 1.0).abs() < 0.02,
+                "m {}: {} vs {}",
+                robust.m[i],
+                robust.adev[i],
+                plain.adev[i]
+            );
         }
     }
 
@@ -120,22 +128,5 @@ mod tests {
         let worst = |a: &[f64]| (0..a.len()).map(|i| a[i] * robust.tau_s[i].sqrt()).fold(0.0, f64::max);
         assert!(worst(&plain.adev) > 2.0, "{}", worst(&plain.adev));
         assert!(worst(&robust.adev) < 1.3, "{}", worst(&robust.adev));
-    }
-}
-#[cfg(test)]
-mod debug_tests {
-    use super::*;
-    use crate::diag::allan::{Taus, oadev};
-    #[test]
-    fn print_warmup() {
-        let x: Vec<f64> = std::fs::read_to_string("/tmp/case_warmup_1.csv").unwrap().lines().skip(1).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
-        let train = &x[..70000];
-        let r = robust_oadev(train, 10.0, 8).unwrap();
-        let p = oadev(train, 10.0, &Taus::Factors(r.m.clone())).unwrap();
-        let axis = crate::diag::simgap::selftest::base_axis();
-        for i in 0..r.len() {
-            let th = crate::sim::theory::axis_avar(&axis, 10.0, r.m[i]).sqrt();
-            eprintln!("{:8.1} robust {:.5} plain {:.5} truth {:.5}", r.tau_s[i], r.adev[i], p.adev[i], th);
-        }
     }
 }

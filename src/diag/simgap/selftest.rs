@@ -4,10 +4,10 @@
 //! **Base model**: the x axis of the `adis16405` preset (N = 2.40 deg/√h, flicker B = 30 deg/h
 //! from 1 to 5000 s, K = 20 deg/h/√h, bias 0.4017 deg/s) without its 0.005 deg/s quantiser
 //! (quantisation is a candidate effect), at 10 Hz, 10,000 s by default (the length of the real
-//! ADIS16405 runs). Every case records a temperature that moves like a lab's: from 24 °C, +3 °C of
-//! self-heating (time constant 900 s), +3 °C over 5 % of the run from 40 % of it, −4 °C over 5 %
-//! from 80 % (inside the hold-out part), read with 0.02 °C noise; only the `temperature` case makes
-//! the bias depend on it.
+//! ADIS16405 runs). Every case records a temperature that moves like an air-conditioned room's:
+//! from 24 °C, +3 °C of self-heating (time constant 900 s), then ramps of ±2.5 °C over 3 % of the
+//! run at 1/6, 2/6, … 5/6 of it, alternately up and down (the last two inside the hold-out part),
+//! read with 0.02 °C noise; only the `temperature` case makes the bias depend on it.
 //!
 //! **Injected effects** (magnitudes drawn per case, uniform in the ranges, times `scale`; for a
 //! MEMS gyro whose white noise is 0.126 deg/s per 10 Hz sample and whose bias instability is
@@ -15,7 +15,7 @@
 //!
 //! | effect | magnitude |
 //! |---|---|
-//! | `warmup` | ±0.1–0.2 deg/s decaying with 120–600 s |
+//! | `warmup` | ±0.1–0.2 deg/s decaying with 120–360 s |
 //! | `temperature` | ±0.01–0.02 deg/s/°C (the ADIS16405 data sheet's order is 0.01) |
 //! | `ramp` | ±0.2–0.4 deg/s over the run |
 //! | `sinusoid` | 0.01–0.03 deg/s at 0.002–0.5 Hz (log-uniform), any phase |
@@ -68,6 +68,15 @@ impl Injected {
         v
     }
 
+    /// The kind of case named `name` (an effect name, `none` or `chirp`).
+    pub fn from_name(name: &str) -> Option<Injected> {
+        match name {
+            "none" => Some(Injected::Nothing),
+            "chirp" => Some(Injected::OutOfCatalogue),
+            _ => EffectKind::ALL.iter().find(|k| k.name() == name).map(|&k| Injected::Effect(k)),
+        }
+    }
+
     /// Row name in the confusion table.
     pub fn name(self) -> &'static str {
         match self {
@@ -80,9 +89,7 @@ impl Injected {
     /// Whether a diagnosis outcome is the right one for this case.
     pub fn is_correct(self, verdict: Verdict, named: Option<EffectKind>) -> bool {
         match self {
-            Injected::Effect(k) => {
-                matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) && named == Some(k)
-            }
+            Injected::Effect(k) => matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) && named == Some(k),
             Injected::Nothing => verdict == Verdict::NoSignificantGap,
             Injected::OutOfCatalogue => verdict == Verdict::Unexplained,
         }
@@ -136,16 +143,16 @@ pub fn base_axis() -> AxisConfig {
 
 /// The recorded temperature trajectory of a run of `duration_s` (module docs).
 pub fn temperature_profile(duration_s: f64) -> TemperatureConfig {
-    TemperatureConfig {
-        start_c: 24.0,
-        warmup_rise_c: 3.0,
-        warmup_time_constant_s: 900.0,
-        ramps: vec![
-            TemperatureRamp { start_s: 0.4 * duration_s, duration_s: 0.05 * duration_s, delta_c: 3.0 },
-            TemperatureRamp { start_s: 0.8 * duration_s, duration_s: 0.05 * duration_s, delta_c: -4.0 },
-        ],
-        noise_c: 0.02,
-    }
+    // Self-heating, then an air-conditioned room cycling by ±2.5 °C: a ramp of 3 % of the run
+    // every 1/6 of it, alternately up and down (the last two inside the hold-out part).
+    let ramps = (1..6)
+        .map(|k| TemperatureRamp {
+            start_s: k as f64 / 6.0 * duration_s,
+            duration_s: 0.03 * duration_s,
+            delta_c: if k % 2 == 1 { 2.5 } else { -2.5 },
+        })
+        .collect();
+    TemperatureConfig { start_c: 24.0, warmup_rise_c: 3.0, warmup_time_constant_s: 900.0, ramps, noise_c: 0.02 }
 }
 
 /// The seed of case `case` of kind `injected`.
@@ -167,7 +174,7 @@ pub fn synthesize(
     let mut extra = None;
     let magnitudes = match injected {
         Injected::Effect(EffectKind::Warmup) => {
-            let (a, t) = (sign(&mut draw) * scale * draw.uniform(0.1, 0.2), draw.uniform(120.0, 600.0));
+            let (a, t) = (sign(&mut draw) * scale * draw.uniform(0.1, 0.2), draw.uniform(120.0, 360.0));
             axis.warmup = Some(Warmup { amplitude_dps: a, time_constant_s: t });
             format!("amplitude {a:.4} deg/s, time constant {t:.0} s")
         }
@@ -183,7 +190,11 @@ pub fn synthesize(
             format!("{total:.4} deg/s over the run")
         }
         Injected::Effect(EffectKind::Sinusoid) => {
-            let (a, f, p) = (scale * draw.uniform(0.01, 0.03), 0.002 * 250f64.powf(draw.uniform(0.0, 1.0)), draw.uniform(0.0, 360.0));
+            let (a, f, p) = (
+                scale * draw.uniform(0.01, 0.03),
+                0.002 * 250f64.powf(draw.uniform(0.0, 1.0)),
+                draw.uniform(0.0, 360.0),
+            );
             axis.sinusoids = Some(vec![Sinusoid { amplitude_dps: a, frequency_hz: f, phase_deg: p }]);
             format!("amplitude {a:.4} deg/s at {f:.4} Hz")
         }
@@ -293,13 +304,14 @@ pub fn run_case(injected: Injected, case: usize, settings: &SelftestSettings) ->
     })
 }
 
-/// Runs every case (`settings.cases` of each kind), calling `progress` after each.
+/// Runs every case (`settings.cases` of each kind in `kinds`), calling `progress` after each.
 pub fn run_selftest(
     settings: &SelftestSettings,
+    kinds: &[Injected],
     mut progress: impl FnMut(&CaseResult),
 ) -> Result<Vec<CaseResult>, SimgapError> {
     let mut results = Vec::new();
-    for injected in Injected::all() {
+    for &injected in kinds {
         for case in 0..settings.cases {
             let r = run_case(injected, case, settings)?;
             progress(&r);

@@ -280,7 +280,8 @@ impl StatLayout {
             });
         }
         let block = len / TRAJECTORY_BLOCKS;
-        let mut trajectory: Vec<(usize, usize)> = (0..TRAJECTORY_BLOCKS).map(|b| (b * block, (b + 1) * block)).collect();
+        let mut trajectory: Vec<(usize, usize)> =
+            (0..TRAJECTORY_BLOCKS).map(|b| (b * block, (b + 1) * block)).collect();
         trajectory.push((0, len >> EARLY_BLOCKS));
         trajectory.extend((2..=EARLY_BLOCKS).rev().map(|k| (len >> k, len >> (k - 1))));
         for (i, &(a, b)) in trajectory.iter().enumerate() {
@@ -416,7 +417,14 @@ impl StatLayout {
 }
 
 fn kurtosis_info(band: String) -> StatInfo {
-    StatInfo { statistic: "kurtosis", band, group: Group::Distribution, scale: Scale::Log10, unit: "ratio", x: f64::NAN }
+    StatInfo {
+        statistic: "kurtosis",
+        band,
+        group: Group::Distribution,
+        scale: Scale::Log10,
+        unit: "ratio",
+        x: f64::NAN,
+    }
 }
 
 /// Largest ratio of a PSD bin to the median of the [`LINE_HALF_WINDOW`] bins on each side.
