@@ -423,7 +423,11 @@ impl Config {
     }
 
     /// The retrainer's CPSO-LSSVM (paper §2.2) from `[retrain]` and `[embedding]`; the other
-    /// settings are [`CpsoLssvm::default`].
+    /// settings are [`CpsoLssvm::default`]. Its targets lie `denoise.lag + 1` samples ahead
+    /// (direct multi-step forecasting, [`Embedding::horizon`]): the pipeline's newest denoised
+    /// value is L samples old when a sample arrives, and one model evaluation then reaches that
+    /// sample — instead of iterating a one-step model L + 1 times, which costs L + 1 evaluations
+    /// per sample and compounds its error; CPSO also tunes γ, σ² on the forecast actually used.
     pub fn cpso_lssvm(&self) -> Result<CpsoLssvm, ConfigError> {
         let r = &self.retrain;
         if r.prototypes == 0 {
@@ -447,7 +451,7 @@ impl Config {
             ..CpsoConfig::default()
         };
         Ok(CpsoLssvm {
-            embedding: self.embedding(),
+            embedding: self.embedding().with_horizon(self.denoise.lag + 1),
             cpso,
             exact_max_rows: r.exact_max_rows,
             prototypes: r.prototypes,
@@ -474,7 +478,7 @@ impl Config {
 
     /// The embedding of `[embedding]`.
     pub fn embedding(&self) -> Embedding {
-        Embedding { tau: self.embedding.tau, dim: self.embedding.dim }
+        Embedding::new(self.embedding.tau, self.embedding.dim)
     }
 }
 

@@ -17,7 +17,7 @@ pub(crate) struct AxisState {
     pub(crate) history: RingBuffer,
     /// Room for the normalised history a model reads plus the iterated predictions.
     scratch: Vec<f64>,
-    /// Iterated prediction steps: denoiser lag + 1.
+    /// Samples from the newest denoised value to the sample compensated: denoiser lag + 1.
     steps: usize,
     pub(crate) slot: Arc<ModelSlot>,
     bias: f64,
@@ -46,6 +46,11 @@ impl AxisState {
         })
     }
 
+    /// The forecast horizon every model must reach: denoiser lag + 1.
+    pub(crate) fn steps(&self) -> usize {
+        self.steps
+    }
+
     /// Largest model history this axis can serve.
     pub(crate) fn max_model_history(&self) -> usize {
         self.history.capacity()
@@ -55,8 +60,9 @@ impl AxisState {
     /// model made it (`false`: the running bias estimate).
     ///
     /// With denoiser lag L the newest denoised value before sample t arrives is `x̃[t−1−L]`; the
-    /// one-step model (on normalised values, Eq. 21) is iterated L + 1 times on its own outputs
-    /// to reach `x̃[t]`. Falls back to the bias estimate when no model is installed, the static
+    /// model (on normalised values, Eq. 21) forecasts `x̃[t]` from it directly (a model fitted
+    /// with horizon L + 1, the retrainer's) or by iterating a one-step model L + 1 times (see
+    /// [`InstalledModel::predict_ahead`](super::model_slot::InstalledModel::predict_ahead)). Falls back to the bias estimate when no model is installed, the static
     /// history is shorter than the model needs, or the model returns a non-finite value.
     #[inline]
     pub(crate) fn forecast(&mut self) -> (f64, bool) {

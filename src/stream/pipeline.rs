@@ -5,8 +5,9 @@
 //!
 //! Per sample t and axis (paper method: db4 denoising, PSR Eq. 15–16, scaler Eq. 21, LSSVM):
 //! - **Accepted static sample**: drift `d[t]` is the model's forecast of the denoised series at t
-//!   made from static denoised samples up to `x̃[t−1−L]` (L = denoiser lag), iterating the
-//!   one-step model L + 1 times (see [`InstalledModel::predict_ahead`](super::InstalledModel::predict_ahead)); before a model exists,
+//!   made from static denoised samples up to `x̃[t−1−L]` (L = denoiser lag): one evaluation of
+//!   a model fitted directly L + 1 steps ahead (the retrainer's, [`Config::cpso_lssvm`](crate::config::Config::cpso_lssvm)), or
+//!   L + 1 iterations of a one-step model (see [`InstalledModel::predict_ahead`](super::InstalledModel::predict_ahead)); before a model exists,
 //!   the running static bias estimate (status bit 0). Output = raw − `d[t]`. Then `x[t]` enters the
 //!   denoiser, the denoised history and the bias estimate. The output at t uses `x[t]` only
 //!   through "raw −": the drift estimate uses samples before t.
@@ -103,6 +104,13 @@ pub enum PipelineError {
     Config(String),
     /// Axis index not in 0..3.
     NoSuchAxis(usize),
+    /// The model forecasts neither one step nor the pipeline's L + 1 steps ahead.
+    HorizonMismatch {
+        /// The model's horizon.
+        model: usize,
+        /// The pipeline's horizon (denoiser lag + 1).
+        pipeline: usize,
+    },
     /// The model needs more history than the pipeline keeps.
     HistoryTooLong {
         /// Samples the model reads.
@@ -117,6 +125,10 @@ impl fmt::Display for PipelineError {
         match self {
             Self::Config(m) => f.write_str(m),
             Self::NoSuchAxis(a) => write!(f, "axis {a} does not exist (0, 1, 2)"),
+            Self::HorizonMismatch { model, pipeline } => write!(
+                f,
+                "model forecasts {model} samples ahead; the pipeline needs 1 (iterated) or {pipeline} (denoise.lag + 1)"
+            ),
             Self::HistoryTooLong { need, kept } => {
                 write!(f, "model reads {need} samples of history, the pipeline keeps {kept}")
             }
@@ -241,6 +253,10 @@ impl Pipeline {
         let (need, kept) = (model.history_len(), a.max_model_history());
         if need > kept {
             return Err(PipelineError::HistoryTooLong { need, kept });
+        }
+        let (horizon, steps) = (model.horizon(), a.steps());
+        if horizon != 1 && horizon != steps {
+            return Err(PipelineError::HorizonMismatch { model: horizon, pipeline: steps });
         }
         a.slot.install(InstalledModel { model, scaler, version });
         self.next_version = self.next_version.max(version + 1);

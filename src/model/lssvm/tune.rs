@@ -120,6 +120,10 @@ impl Predict for CpsoLssvmModel {
     fn predict(&self, history: &[f64]) -> f64 {
         self.model.predict(history)
     }
+
+    fn horizon(&self) -> usize {
+        self.model.horizon()
+    }
 }
 
 fn rmse(r: impl Iterator<Item = f64>) -> f64 {
@@ -195,8 +199,8 @@ impl CpsoLssvm {
             // The smallest row count that leaves two rows to fit (fraction < 1 bounds the search).
             let rows = (3..100_000).find(|&m| self.fitted_rows(m) >= 2).unwrap_or(3);
             return Err(FitError::TooFewSamples {
-                need: self.embedding.history() + rows,
-                have: self.embedding.history() + n,
+                need: self.embedding.samples_for_rows(rows),
+                have: self.embedding.samples_for_rows(n),
             });
         }
         Ok(n_fit)
