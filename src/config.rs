@@ -158,11 +158,15 @@ pub struct InputSection {
     pub rate_hz: f64,
     /// A timestamp step above this many nominal periods is a gap.
     pub gap_factor: f64,
+    /// Spike threshold in σ of the recent static samples (0 = off).
+    pub spike_z: f64,
+    /// Longest run of outliers rejected as spikes (a longer run is a real change).
+    pub spike_max_run: u32,
 }
 
 impl Default for InputSection {
     fn default() -> Self {
-        Self { range_dps: 2000.0, rate_hz: 100.0, gap_factor: 3.0 }
+        Self { range_dps: 2000.0, rate_hz: 100.0, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3 }
     }
 }
 
@@ -379,6 +383,9 @@ impl Config {
         if !(i.gap_factor > 1.0 && i.gap_factor.is_finite()) {
             return err(format!("input.gap_factor: {} must be finite and above 1", i.gap_factor));
         }
+        if !(i.spike_z >= 0.0 && i.spike_z.is_finite()) || (i.spike_z > 0.0 && i.spike_z < 3.0) {
+            return err(format!("input.spike_z: {} must be 0 (off) or a finite value of at least 3", i.spike_z));
+        }
         let r = &self.retrain;
         let mode = match r.mode.as_str() {
             "deterministic" => RetrainMode::Deterministic,
@@ -410,6 +417,8 @@ impl Config {
                 range_dps: i.range_dps,
                 period_ns: (1e9 / i.rate_hz).round().max(1.0) as u64,
                 gap_factor: i.gap_factor,
+                spike_z: i.spike_z,
+                spike_max_run: i.spike_max_run,
             },
             retrain: RetrainSchedule {
                 mode,
@@ -517,6 +526,7 @@ mod tests {
             ("[motion]\nwindow = 1\n", "motion.window"),
             ("[motion]\nrate_dps = -1.0\n", "motion.rate_dps"),
             ("[input]\ngap_factor = 0.5\n", "input.gap_factor"),
+            ("[input]\nspike_z = 1.5\n", "input.spike_z"),
             ("[input]\nrate_hz = 0.0\n", "input.rate_hz"),
             ("[pipeline]\nbias_samples = 0\n", "pipeline.bias_samples"),
             ("[retrain]\nwindw = 4000\n", "windw"),

@@ -62,6 +62,11 @@ pub fn status_sample(
         event: event as u32,
         _pad: 0,
         send_failures: counters.send_failures,
+        invalid: stats.input.invalid,
+        spikes: stats.input.spikes,
+        duplicates: stats.input.duplicates,
+        time_backwards: stats.input.time_backwards,
+        seq_skipped: stats.input.seq_skipped,
     }
 }
 
@@ -89,12 +94,15 @@ mod tests {
         let comp = comp_from_output(&out);
         assert_eq!((comp.seq, comp.t_ns, comp.model_version, comp.status, comp._pad), (7, 70, 4, 0b1010, 0));
         assert_eq!((comp.rate_dps, comp.drift_dps), ([0.5; 3], [0.1; 3]));
-        let stats = PipelineStats { retrain_skipped: 2, retrain_starved: 3, models_installed: 1, ..Default::default() };
+        let input = crate::stream::InputCounters { spikes: 6, seq_skipped: 2, ..Default::default() };
+        let stats =
+            PipelineStats { retrain_skipped: 2, retrain_starved: 3, models_installed: 1, input, ..Default::default() };
         let counters =
             LoopCounters { samples_in: 9, samples_out: 8, send_failures: 1, last_seq: 7, last_retrain_ns: 3 };
         let s = status_sample(StatusEvent::ModelSwapped, 5, &stats, 4, &counters);
         assert_eq!((s.retrains_skipped, s.retrains_done, s.model_version, s.samples_out), (5, 1, 4, 8));
         assert_eq!((s.last_seq, s.last_retrain_ns, s.send_failures), (7, 3, 1));
+        assert_eq!((s.spikes, s.seq_skipped, s.duplicates), (6, 2, 0));
         assert_eq!(StatusEvent::from_u32(s.event), Some(StatusEvent::ModelSwapped));
     }
 }
