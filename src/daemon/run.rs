@@ -1,12 +1,12 @@
 //! Start-up and the daemon loop.
 //!
-//! Start-up: configuration → pipeline and retrainer → iceoryx2 node and ports (opened or
-//! created, so clients may start first) → a `Started` status. Loop: wait for raw samples (event
-//! or spin, `[ipc] wait`), answer each with exactly one `CompSample` of the same `seq`, publish a
-//! `Periodic` status every second and a `ModelSwapped`/`RetrainFailed` status when those
-//! counters move. Between samples, SIGHUP reloads the configuration ([`super::reload`]) and
-//! SIGTERM/SIGINT end the loop: the samples already waiting are answered, a `Stopping` status is
-//! published and [`Daemon::run`] returns.
+//! Start-up: configuration → pipeline and retrainer ([`build_pipeline`], shared with the offline
+//! driver) → iceoryx2 node and ports (opened or created, so clients may start first) → a
+//! `Started` status. Loop: wait for raw samples (event or spin, `[ipc] wait`), answer each with
+//! exactly one `CompSample` of the same `seq`, publish a `Periodic` status every second and a
+//! `ModelSwapped`/`RetrainFailed` status when those counters move. Between samples, SIGHUP
+//! reloads the configuration ([`super::reload`]) and SIGTERM/SIGINT end the loop: the samples
+//! already waiting are answered, a `Stopping` status is published and [`Daemon::run`] returns.
 //!
 //! IPC errors while running are logged (rate-limited) and counted, never fatal; only start-up
 //! failures (bad configuration, services that cannot be opened) end the daemon with an error.
@@ -21,7 +21,7 @@ use crate::config::{Config, ConfigError, DomainChoice};
 use crate::stream::ipc::{
     CompPublisher, IpcDomain, IpcError, IpcNode, RawSample, RawSubscriber, StatusEvent, StatusPublisher,
 };
-use crate::stream::{Pipeline, PipelineError, Trainer};
+use crate::stream::{BuildError, Pipeline, PipelineError, build_pipeline};
 
 /// Longest single wait for a raw sample, so that signals are seen promptly.
 const POLL: Duration = Duration::from_millis(50);
@@ -53,6 +53,16 @@ pub enum DaemonError {
     /// The iceoryx2 services or ports could not be opened.
     #[error(transparent)]
     Ipc(#[from] IpcError),
+}
+
+impl From<BuildError> for DaemonError {
+    fn from(e: BuildError) -> Self {
+        match e {
+            BuildError::Config(e) => Self::Config(e),
+            BuildError::Pipeline(e) => Self::Pipeline(e),
+            BuildError::Trainer(e) => Self::Trainer(e),
+        }
+    }
 }
 
 /// Totals at the end of a run.
@@ -112,8 +122,7 @@ impl Daemon {
             DomainChoice::Private { prefix, root } => IpcDomain::private(&prefix, &root)?,
         };
         let settings = self.config.ipc_settings()?;
-        let mut pipeline = Pipeline::new(self.config.pipeline()?)?;
-        pipeline.attach_trainer(Trainer::spawn(self.config.cpso_lssvm()?).map_err(DaemonError::Trainer)?);
+        let pipeline = build_pipeline(&self.config)?;
         let node = IpcNode::new(&domain, NODE_NAME, settings.clone())?;
         let raw = node.raw_subscriber()?;
         let mut worker = Worker {

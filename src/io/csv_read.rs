@@ -56,6 +56,9 @@ pub enum CsvErrorKind {
     },
     /// The CSV structure itself is broken (e.g. invalid UTF-8 in the header, unequal quoting).
     Malformed(String),
+    /// A number that the reader of the file cannot use (e.g. a negative time, a flag that is not
+    /// 0 or 1); the message says what was expected.
+    Invalid(String),
 }
 
 impl fmt::Display for CsvErrorKind {
@@ -74,6 +77,7 @@ impl fmt::Display for CsvErrorKind {
                 write!(f, "time does not increase: {current} s follows {previous} s")
             }
             Self::Malformed(msg) => write!(f, "malformed CSV: {msg}"),
+            Self::Invalid(msg) => f.write_str(msg),
         }
     }
 }
@@ -243,6 +247,16 @@ impl<R: Read> SampleReader<R> {
     /// Names of all columns in the header.
     pub fn header(&self) -> &[String] {
         &self.names
+    }
+
+    /// Name of the time column found in the header (one of [`TIME_COLUMN_NAMES`]).
+    pub fn time_column(&self) -> &str {
+        &self.time_name
+    }
+
+    /// The file's label in error messages.
+    pub fn path(&self) -> &Path {
+        &self.path
     }
 
     /// Whether the file has a `temp_c` column.
