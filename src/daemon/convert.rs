@@ -93,6 +93,7 @@ pub fn status_sample(
         duplicates: stats.input.duplicates,
         time_backwards: stats.input.time_backwards,
         seq_skipped: stats.input.seq_skipped,
+        restarts: stats.input.restarts,
     }
 }
 

@@ -2,8 +2,12 @@
 //! sequence number, the timestamp, the value range and a robust spike test (issue 7 "bad samples").
 //!
 //! Verdicts, in the order they are tested:
-//! - **duplicate / out-of-order `seq`** (`seq` ≤ the last accepted one): rejected (status bit 2),
-//!   counted in [`InputCounters::duplicates`];
+//! - **publisher restart** (`seq` = 0 after a non-zero `seq`, or more than [`RESTART_SEQ_BACK`]
+//!   below the last one): a new stream — a restarted INS process or a new replay — whose clock may
+//!   restart too. The sequence and time references are reset, the sample is flagged as a gap
+//!   (bit 3) and checked like any other; counted in [`InputCounters::restarts`];
+//! - **duplicate / out-of-order `seq`** (`seq` ≤ the last one, at most [`RESTART_SEQ_BACK`]
+//!   below it): rejected (status bit 2), counted in [`InputCounters::duplicates`];
 //! - **time going backwards** (`t_ns` ≤ the latest accepted `t_ns`): rejected and flagged as a gap
 //!   (bits 2 and 3), counted in [`InputCounters::time_backwards`];
 //! - **skipped `seq`** (`seq` > last + 1): the sample is good, flagged as a gap (bit 3), the missing
@@ -25,6 +29,10 @@
 //! gate flags "moving"; both hold the last static drift, so the compensated output is the same.
 
 use super::sample::{STATUS_GAP, STATUS_REJECTED};
+
+/// A `seq` further than this below the last one starts a new stream (a publisher restart) rather
+/// than being a late duplicate.
+pub const RESTART_SEQ_BACK: u64 = 64;
 
 /// Samples the spike test's level and spread average over (EWMA weight 1/32 after warm-up).
 pub const SPIKE_MEMORY: u32 = 32;
@@ -60,8 +68,10 @@ pub struct InputCounters {
     pub time_backwards: u64,
     /// Sequence numbers missing between accepted samples (sum of the holes).
     pub seq_skipped: u64,
-    /// Gaps flagged (missing `seq`, timestamp jumps, timestamps going backwards).
+    /// Gaps flagged (missing `seq`, timestamp jumps, timestamps going backwards, restarts).
     pub gaps: u64,
+    /// Publisher restarts (a new stream: `seq` back to 0 or far back).
+    pub restarts: u64,
 }
 
 /// The recursive spike estimate of one axis.
@@ -146,6 +156,14 @@ impl InputCheck {
     /// [`accept_static`](Self::accept_static).
     pub fn check(&mut self, seq: u64, t_ns: u64, rate: &[f64; 3], publisher_moving: bool) -> Verdict {
         let mut status = 0;
+        if let Some(last) = self.last_seq
+            && ((seq == 0 && last > 0) || seq + RESTART_SEQ_BACK < last)
+        {
+            self.counters.restarts += 1;
+            self.last_seq = None;
+            self.last_t_ns = None;
+            status |= STATUS_GAP;
+        }
         if let Some(last) = self.last_seq {
             if seq <= last {
                 self.counters.duplicates += 1;
@@ -222,14 +240,9 @@ mod tests {
         0.08 * (t * 1.7).sin() + 0.06 * (t * 2.9 + 1.0).sin() + 0.05 * (t * 0.37 + 2.0).sin()
     }
 
-    /// Feeds `n` static samples starting at `seq` and returns the next seq.
+    /// Feeds `n` static samples (seq and time = index from 0) and returns the next seq.
     fn warm(c: &mut InputCheck, n: u64) -> u64 {
-        for k in 0..n {
-            let r = [noise(k); 3];
-            let v = c.check(k, k * PERIOD, &r, false);
-            assert_eq!(v.status, 0, "sample {k}");
-            c.accept_static(&r);
-        }
+        warm_from(c, 0, n);
         n
     }
 
@@ -243,6 +256,31 @@ mod tests {
         assert_eq!(c.check(next + 1, (next + 1) * PERIOD, &[0.0; 3], false).status, 0);
         let n = c.counters();
         assert_eq!((n.duplicates, n.time_backwards, n.gaps), (1, 1, 1));
+    }
+
+    #[test]
+    fn a_restarted_publisher_starts_a_new_stream() {
+        let mut c = InputCheck::new(config());
+        warm(&mut c, 200);
+        // seq and clock back to 0: accepted as a new stream, flagged as a gap.
+        assert_eq!(c.check(0, 0, &[noise(0); 3], false).status, STATUS_GAP);
+        assert_eq!(c.check(1, PERIOD, &[noise(1); 3], false).status, 0);
+        // A late repeat close behind is still a duplicate; far behind is another restart.
+        assert!(c.check(1, 2 * PERIOD, &[0.0; 3], false).rejected());
+        assert_eq!(c.check(2, 2 * PERIOD, &[noise(2); 3], false).status, 0);
+        warm_from(&mut c, 3, 500);
+        assert_eq!(c.check(10, 0, &[noise(10); 3], false).status, STATUS_GAP);
+        let n = c.counters();
+        assert_eq!((n.restarts, n.duplicates, n.time_backwards), (2, 1, 0));
+    }
+
+    /// Feeds static samples `from..to` (seq and time = index).
+    fn warm_from(c: &mut InputCheck, from: u64, to: u64) {
+        for k in from..to {
+            let r = [noise(k); 3];
+            assert_eq!(c.check(k, k * PERIOD, &r, false).status, 0, "sample {k}");
+            c.accept_static(&r);
+        }
     }
 
     #[test]

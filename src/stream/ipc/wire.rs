@@ -121,7 +121,7 @@ impl StatusEvent {
     }
 }
 
-/// Model events and counters, on the `gyrocomp/status` service (152 bytes).
+/// Model events and counters, on the `gyrocomp/status` service (160 bytes).
 /// Counters are totals since the daemon started.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[type_name("gyrocomp::StatusSample")]
@@ -167,6 +167,8 @@ pub struct StatusSample {
     pub time_backwards: u64,
     /// Sequence numbers missing between received samples (sum of the holes).
     pub seq_skipped: u64,
+    /// Publisher restarts seen (`seq` back to 0 or far back: a new stream).
+    pub restarts: u64,
 }
 
 // Layout checks: the byte counts are part of the wire contract (design.md).
@@ -175,6 +177,6 @@ const _: () = {
     assert!(align_of::<RawSample>() == 8);
     assert!(size_of::<CompSample>() == 80);
     assert!(align_of::<CompSample>() == 8);
-    assert!(size_of::<StatusSample>() == 152);
+    assert!(size_of::<StatusSample>() == 160);
     assert!(align_of::<StatusSample>() == 8);
 };
