@@ -144,7 +144,7 @@ pub struct MotionSection {
 
 impl Default for MotionSection {
     fn default() -> Self {
-        Self { rate_dps: 1.0, variance_dps2: 0.05, window: 20 }
+        Self { rate_dps: 2.0, variance_dps2: 0.6, window: 20 }
     }
 }
 
@@ -499,6 +499,17 @@ mod tests {
     fn shipped_default_file_equals_the_built_in_defaults() {
         let text = include_str!("../configs/default.toml");
         assert_eq!(Config::from_toml(text, "configs/default.toml").unwrap(), Config::default());
+    }
+
+    #[test]
+    fn shipped_10hz_file_loads_and_changes_only_rate_and_gate() {
+        let text = include_str!("../configs/adis16405_10hz.toml");
+        let c = Config::from_toml(text, "configs/adis16405_10hz.toml").unwrap();
+        c.pipeline().unwrap();
+        assert_eq!((c.input.rate_hz, c.motion.rate_dps, c.motion.variance_dps2), (10.0, 1.0, 0.05));
+        let mut expected = Config::default();
+        (expected.input.rate_hz, expected.motion.rate_dps, expected.motion.variance_dps2) = (10.0, 1.0, 0.05);
+        assert_eq!(c, expected);
     }
 
     #[test]

@@ -51,6 +51,12 @@ impl AxisState {
         self.steps
     }
 
+    /// The running static bias estimate (mean of recent accepted static raw samples); `None`
+    /// before the first.
+    pub(crate) fn bias(&self) -> Option<f64> {
+        (self.bias_count > 0).then_some(self.bias)
+    }
+
     /// Largest model history this axis can serve.
     pub(crate) fn max_model_history(&self) -> usize {
         self.history.capacity()

@@ -301,7 +301,7 @@ impl Pipeline {
                     status |= STATUS_NO_MODEL;
                 }
             }
-        } else if self.gate.push(&input.rate_dps, publisher_moving) {
+        } else if self.gate.push(&input.rate_dps, self.gate_reference().as_ref(), publisher_moving) {
             status |= STATUS_MOVING;
             self.stats.moving += 1;
             self.horizon += 1;
@@ -337,6 +337,13 @@ impl Pipeline {
             model_version: self.model_version(),
             status,
         }
+    }
+
+    /// The motion gate's rate reference: each axis' running static bias estimate, once a static
+    /// sample was accepted (before, there is none).
+    fn gate_reference(&self) -> Option<[f64; 3]> {
+        let [x, y, z] = &self.axes;
+        Some([x.bias()?, y.bias()?, z.bias()?])
     }
 
     /// Applies a finished retrain: deterministic mode at exactly `request + apply_delay`
@@ -486,9 +493,12 @@ mod tests {
         assert_eq!(before.status & STATUS_MOVING, 0);
         let mut motion = p.config().motion;
         motion.rate_dps = 0.4;
-        p.update_thresholds(motion, p.config().input);
-        let after = p.process(&sample(31, 0.5));
-        assert!(after.status & STATUS_MOVING != 0);
+        // Constant input: any step is a spike to the robust test; switch it off to see the gate.
+        let input = InputConfig { spike_z: 0.0, ..p.config().input };
+        p.update_thresholds(motion, input);
+        // 0.5 above the running bias of 0.5: moving at the new threshold, not at the default.
+        let after = p.process(&sample(31, 1.0));
+        assert!(after.status & STATUS_MOVING != 0, "{after:?}");
         // The drift estimate (state) survived the change.
         assert_eq!(after.drift_dps, before.drift_dps);
         assert_eq!(p.stats().samples, 32);
