@@ -5,5 +5,5 @@
 pub mod csv_read;
 pub mod csv_write;
 
-pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table};
+pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table, read_table_from};
 pub use csv_write::CsvColumnsWriter;
