@@ -8,6 +8,8 @@
 
 use std::fmt;
 
+use super::snapshot::ModelState;
+
 /// A fitted one-step-ahead predictor.
 pub trait Predict {
     /// Samples of history one prediction reads (the most recent `history_len` of the slice).
@@ -16,6 +18,13 @@ pub trait Predict {
     /// Predicts the sample that follows `history` (oldest first). `history` holds at least
     /// [`history_len`](Self::history_len) samples; only the last ones are read.
     fn predict(&self, history: &[f64]) -> f64;
+
+    /// The fitted model as a storable [`ModelState`] (model snapshots), or `None` when this kind
+    /// of model cannot be stored (the default). Restoring the state must give a model whose
+    /// predictions are bit-identical.
+    fn state(&self) -> Option<ModelState> {
+        None
+    }
 }
 
 /// A model configuration that can be fitted to a training series.

@@ -106,6 +106,21 @@ impl CausalDenoiser {
         self.ring.total_pushed()
     }
 
+    /// The raw samples in the window, oldest first (for a warm restart).
+    pub fn window_samples(&self) -> &[f64] {
+        self.ring.as_slice()
+    }
+
+    /// Refills the window with `samples` (oldest first, the last `window` kept) without emitting
+    /// anything: the state [`push`](Self::push) would have reached had they been pushed, minus
+    /// the outputs already consumed (a warm restart).
+    pub fn prefill(&mut self, samples: &[f64]) {
+        self.ring.clear();
+        for &x in &samples[samples.len().saturating_sub(self.config.window)..] {
+            self.ring.push(x);
+        }
+    }
+
     /// Pushes raw sample `x[t]` and returns the estimate of `x[t − lag]`, or `None` during the
     /// first `lag` pushes.
     pub fn push(&mut self, x: f64) -> Option<f64> {

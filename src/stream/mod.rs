@@ -13,6 +13,7 @@ pub mod pipeline;
 pub mod retrain;
 pub mod ring;
 pub mod sample;
+pub mod snapshot;
 
 pub use causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser, denoise_causal};
 pub use embed::{Embedded, Embedding};

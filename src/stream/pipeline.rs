@@ -43,6 +43,7 @@ use super::retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Tr
 use super::sample::{
     FLAG_MOVING, InputSample, OutputSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED,
 };
+use super::snapshot::AxisWarm;
 use crate::model::scaler::MinMaxScaler;
 
 /// Input validation and gap detection (`[input]` in the configuration).
@@ -244,6 +245,24 @@ impl Pipeline {
         }
         a.slot.install(InstalledModel { model, scaler, version });
         self.next_version = self.next_version.max(version + 1);
+        Ok(())
+    }
+
+    /// Copies of each axis' buffers (denoiser window, static history) and running values (bias
+    /// estimate, held drift), for a snapshot: see [`crate::stream::snapshot`].
+    pub fn warm_state(&self) -> [AxisWarm; 3] {
+        self.axes.each_ref().map(AxisState::warm)
+    }
+
+    /// Restores what [`Pipeline::warm_state`] copied (models are installed separately with
+    /// [`Pipeline::install_model`]); refused, with nothing changed, when a value is not finite.
+    pub fn restore_warm_state(&mut self, warm: &[AxisWarm; 3]) -> Result<(), PipelineError> {
+        if let Some(axis) = warm.iter().position(|w| !w.is_finite()) {
+            return Err(PipelineError::Config(format!("warm state of axis {axis} holds a non-finite value")));
+        }
+        for (a, w) in self.axes.iter_mut().zip(warm) {
+            a.restore(w);
+        }
         Ok(())
     }
 
