@@ -18,6 +18,14 @@ use crate::wavelet::{DenoiseConfig, Wavelet};
 pub const DEFAULT_DENOISE_WINDOW: usize = 256;
 /// Default causal lag (samples): see the trade-off table in the README.
 pub const DEFAULT_DENOISE_LAG: usize = 5;
+/// Largest `denoise.window`, `motion.window` and `ipc.subscriber_buffer` (samples).
+pub const MAX_WINDOW: usize = 1 << 20;
+/// Largest `retrain.window` (static samples per axis; the history of three axes is 48 MB).
+pub const MAX_RETRAIN_WINDOW: usize = 1_000_000;
+/// Largest `retrain.exact_max_rows`: the exact LS-SVM holds an n × n matrix (10,000 rows: 800 MB).
+pub const MAX_EXACT_ROWS: usize = 10_000;
+/// Largest embedding span `(embedding.dim − 1) · embedding.tau`, samples.
+pub const MAX_EMBEDDING_SPAN: usize = 100_000;
 
 /// The whole configuration.
 #[derive(Debug, Clone, PartialEq, Deserialize, Default)]
@@ -39,6 +47,16 @@ pub struct Config {
     pub ipc: IpcSection,
     /// `[log]`: the daemon's log output.
     pub log: LogSection,
+    /// `[state]`: where the daemon keeps its model snapshot.
+    pub state: StateSection,
+}
+
+/// `[state]` keys (used by `gyrocompd`).
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct StateSection {
+    /// Directory of the model snapshot (an absolute path; empty = no snapshots).
+    pub dir: String,
 }
 
 /// `[ipc]` keys (used by `gyrocompd`).
@@ -283,16 +301,54 @@ impl Config {
     /// Checks values that the types alone do not: names, ranges, and window against lag.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.causal_denoise()?;
+        self.pipeline()?;
+        self.ipc_settings()?;
+        self.ipc_domain()?;
+        self.log_format()?;
+        self.state_dir()?;
+        Ok(())
+    }
+
+    /// The snapshot directory of `[state] dir`: `None` when empty (snapshots off), else an
+    /// absolute path.
+    pub fn state_dir(&self) -> Result<Option<PathBuf>, ConfigError> {
+        if self.state.dir.is_empty() {
+            return Ok(None);
+        }
+        let dir = PathBuf::from(&self.state.dir);
+        if !dir.is_absolute() {
+            return Err(ConfigError(format!("state.dir: {} is not an absolute path", dir.display())));
+        }
+        Ok(Some(dir))
+    }
+
+    /// The embedding and the sizes that set memory use, against their limits (checked before
+    /// anything is computed from them).
+    fn limits(&self) -> Result<(), ConfigError> {
         if self.embedding.tau == 0 {
             return Err(ConfigError("embedding.tau must be at least 1".into()));
         }
         if self.embedding.dim == 0 {
             return Err(ConfigError("embedding.dim must be at least 1".into()));
         }
-        self.pipeline()?;
-        self.ipc_settings()?;
-        self.ipc_domain()?;
-        self.log_format()?;
+        let span = (self.embedding.dim - 1).checked_mul(self.embedding.tau);
+        if span.is_none_or(|s| s > MAX_EMBEDDING_SPAN) {
+            return Err(ConfigError(format!(
+                "embedding.tau/embedding.dim: (dim − 1)·tau must not exceed {MAX_EMBEDDING_SPAN}, got tau = {}, dim = {}",
+                self.embedding.tau, self.embedding.dim
+            )));
+        }
+        for (key, value, max) in [
+            ("denoise.window", self.denoise.window, MAX_WINDOW),
+            ("motion.window", self.motion.window, MAX_WINDOW),
+            ("ipc.subscriber_buffer", self.ipc.subscriber_buffer, MAX_WINDOW),
+            ("retrain.window", self.retrain.window, MAX_RETRAIN_WINDOW),
+            ("retrain.exact_max_rows", self.retrain.exact_max_rows, MAX_EXACT_ROWS),
+        ] {
+            if value > max {
+                return Err(ConfigError(format!("{key}: {value} exceeds the limit {max}")));
+            }
+        }
         Ok(())
     }
 
@@ -368,6 +424,7 @@ impl Config {
         let positive = |key: &str, v: f64| {
             if v > 0.0 && v.is_finite() { Ok(()) } else { err(format!("{key}: {v} must be positive and finite")) }
         };
+        self.limits()?;
         if self.pipeline.bias_samples == 0 {
             return err("pipeline.bias_samples must be at least 1".into());
         }
@@ -552,6 +609,12 @@ mod tests {
             ("[log]\nlevel = \"info,[\"\n", "log.level"),
             ("[log]\ncolour = true\n", "colour"),
             ("[motion]\nthreshold = 1.0\n", "threshold"),
+            ("[state]\ndir = \"relative/dir\"\n", "state.dir"),
+            ("[state]\npath = \"/x\"\n", "path"),
+            ("[embedding]\ntau = 9223372036854775807\n", "embedding.tau"),
+            ("[retrain]\nwindow = 5000000\n", "retrain.window"),
+            ("[retrain]\nexact_max_rows = 100000\n", "retrain.exact_max_rows"),
+            ("[denoise]\nwindow = 100000000\n", "denoise.window"),
         ] {
             let err = Config::from_toml(text, "x.toml").unwrap_err();
             assert!(err.0.contains(key), "{text}: {err}");

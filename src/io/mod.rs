@@ -8,6 +8,6 @@ pub mod csv_write;
 pub mod recording;
 
 pub use compensated_csv::{CompensatedCsvWriter, compensated_header};
-pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table};
+pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table, read_table_from};
 pub use csv_write::{CsvColumnsWriter, create_output};
 pub use recording::{Recording, RecordingError, t_ns_from_s};

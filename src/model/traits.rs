@@ -8,6 +8,8 @@
 
 use std::fmt;
 
+use super::snapshot::ModelState;
+
 /// A fitted predictor of the sample [`horizon`](Self::horizon) steps after its history
 /// (one step unless the model was fitted on direct multi-step targets).
 pub trait Predict {
@@ -22,6 +24,13 @@ pub trait Predict {
     /// How many samples after the end of its history a prediction lies (1 by default).
     fn horizon(&self) -> usize {
         1
+    }
+
+    /// The fitted model as a storable [`ModelState`] (model snapshots), or `None` when this kind
+    /// of model cannot be stored (the default). Restoring the state must give a model whose
+    /// predictions are bit-identical.
+    fn state(&self) -> Option<ModelState> {
+        None
     }
 }
 

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use super::causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser};
 use super::model_slot::ModelSlot;
 use super::ring::RingBuffer;
+use super::snapshot::AxisWarm;
 
 /// One axis. Every buffer is allocated in [`AxisState::new`]; the per-sample methods allocate
 /// nothing.
@@ -55,6 +56,31 @@ impl AxisState {
     /// before the first.
     pub(crate) fn bias(&self) -> Option<f64> {
         (self.bias_count > 0).then_some(self.bias)
+    }
+
+    /// Copies of the buffers and running values a warm restart needs.
+    pub(crate) fn warm(&self) -> AxisWarm {
+        AxisWarm {
+            denoiser_window: self.denoiser.window_samples().to_vec(),
+            history: self.history.as_slice().to_vec(),
+            bias: self.bias,
+            bias_count: self.bias_count,
+            drift: self.drift,
+            comp: self.comp,
+        }
+    }
+
+    /// Restores what [`AxisState::warm`] copied (the newest samples that fit are kept).
+    pub(crate) fn restore(&mut self, warm: &AxisWarm) {
+        self.denoiser.prefill(&warm.denoiser_window);
+        self.history.clear();
+        for &x in &warm.history[warm.history.len().saturating_sub(self.history.capacity())..] {
+            self.history.push(x);
+        }
+        self.bias = warm.bias;
+        self.bias_count = warm.bias_count.min(self.bias_samples);
+        self.drift = warm.drift;
+        self.comp = warm.comp;
     }
 
     /// Largest model history this axis can serve.

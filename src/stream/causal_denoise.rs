@@ -117,14 +117,35 @@ impl CausalDenoiser {
         self.ring.total_pushed()
     }
 
-    /// Pushes raw sample `x[t]` and returns the estimate of `x[t − lag]`, or `None` during the
-    /// first `lag` pushes.
-    pub fn push(&mut self, x: f64) -> Option<f64> {
+    /// The raw samples in the window, oldest first (for a warm restart).
+    pub fn window_samples(&self) -> &[f64] {
+        self.ring.as_slice()
+    }
+
+    /// Refills the window with `samples` (oldest first, the last `window` kept) without emitting
+    /// anything: the state [`push`](Self::push) would have reached had they been pushed, minus
+    /// the outputs already consumed (a warm restart).
+    pub fn prefill(&mut self, samples: &[f64]) {
+        self.ring.clear();
+        self.finest.clear();
+        for &x in &samples[samples.len().saturating_sub(self.config.window)..] {
+            self.append(x);
+        }
+    }
+
+    /// Appends a raw sample and its interior finest detail (module documentation).
+    fn append(&mut self, x: f64) {
         self.ring.push(x);
         let window = self.ring.as_slice();
         let hi = self.config.denoise.wavelet.dec_hi();
         let d = if window.len() >= hi.len() { interior_detail(window, hi, window.len() - 1) } else { f64::NAN };
         self.finest.push(d);
+    }
+
+    /// Pushes raw sample `x[t]` and returns the estimate of `x[t − lag]`, or `None` during the
+    /// first `lag` pushes.
+    pub fn push(&mut self, x: f64) -> Option<f64> {
+        self.append(x);
         let held = self.ring.len();
         if held <= self.config.lag {
             return None;
@@ -226,6 +247,23 @@ mod tests {
                 };
                 assert_eq!(got.to_bits(), want.to_bits(), "window {window} lag {lag} t {t}");
             }
+        }
+    }
+
+    /// A denoiser prefilled with the last window of a series continues exactly like one that saw
+    /// the whole series (warm restart from a snapshot), finest-detail cache included.
+    #[test]
+    fn prefill_continues_bit_identically() {
+        let x = series(600);
+        let c = config(64, 5);
+        let mut whole = CausalDenoiser::new(c.clone()).unwrap();
+        for &v in &x[..400] {
+            whole.push(v);
+        }
+        let mut restarted = CausalDenoiser::new(c).unwrap();
+        restarted.prefill(&x[..400]);
+        for &v in &x[400..] {
+            assert_eq!(whole.push(v).map(f64::to_bits), restarted.push(v).map(f64::to_bits));
         }
     }
 

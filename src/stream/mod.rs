@@ -17,6 +17,7 @@ pub mod pipeline;
 pub mod retrain;
 pub mod ring;
 pub mod sample;
+pub mod snapshot;
 
 pub use build::{BuildError, build_pipeline};
 pub use causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser, denoise_causal};

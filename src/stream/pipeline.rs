@@ -47,6 +47,7 @@ use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
 use super::motion_gate::{MotionConfig, MotionGate};
 use super::retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
 use super::sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED};
+use super::snapshot::AxisWarm;
 use crate::model::scaler::MinMaxScaler;
 
 /// Everything the pipeline needs (built from [`crate::config::Config::pipeline`]).
@@ -257,6 +258,24 @@ impl Pipeline {
         }
         a.slot.install(InstalledModel { model, scaler, version });
         self.next_version = self.next_version.max(version + 1);
+        Ok(())
+    }
+
+    /// Copies of each axis' buffers (denoiser window, static history) and running values (bias
+    /// estimate, held drift), for a snapshot: see [`crate::stream::snapshot`].
+    pub fn warm_state(&self) -> [AxisWarm; 3] {
+        self.axes.each_ref().map(AxisState::warm)
+    }
+
+    /// Restores what [`Pipeline::warm_state`] copied (models are installed separately with
+    /// [`Pipeline::install_model`]); refused, with nothing changed, when a value is not finite.
+    pub fn restore_warm_state(&mut self, warm: &[AxisWarm; 3]) -> Result<(), PipelineError> {
+        if let Some(axis) = warm.iter().position(|w| !w.is_finite()) {
+            return Err(PipelineError::Config(format!("warm state of axis {axis} holds a non-finite value")));
+        }
+        for (a, w) in self.axes.iter_mut().zip(warm) {
+            a.restore(w);
+        }
         Ok(())
     }
 

@@ -6,6 +6,8 @@
 //! weights. Both predict through [`KernelExpansion`], reading the PSR input vector (Eq. 15)
 //! straight out of the history, so `predict` allocates nothing.
 
+use serde::{Deserialize, Serialize};
+
 use super::exact::solve_exact;
 use super::kernel::sq_dist;
 use super::validate::check_hyper;
@@ -14,7 +16,7 @@ use crate::model::{Fit, FitError, Predict};
 use crate::stream::embed::{Embedded, Embedding};
 
 /// A kernel expansion `f(x) = Σ_i coef_i · exp(−‖x − centre_i‖² / σ²) + bias`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct KernelExpansion {
     /// Input dimension.
     pub dim: usize,
@@ -78,7 +80,7 @@ impl KernelExpansion {
 }
 
 /// A fitted one-step-ahead LS-SVM predictor on PSR rows (exact or fixed-size).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LssvmModel {
     /// The PSR embedding its inputs are read with (Eq. 15–16).
     pub embedding: Embedding,

@@ -17,6 +17,7 @@ use super::model::{KernelExpansion, LssvmModel, embed_series};
 use super::nystrom::{DEFAULT_RANK_TOL, NystromProblem};
 use super::prototypes::{PrototypeSelection, select_prototypes};
 use crate::model::cpso::{CpsoConfig, CpsoHistory, minimize};
+use crate::model::snapshot::{ModelState, TunedLssvm};
 use crate::model::{Fit, FitError, Predict};
 use crate::stream::embed::Embedding;
 
@@ -39,7 +40,7 @@ pub enum Fitness {
 }
 
 /// Which LS-SVM solves the problem.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Solver {
     /// Exact dual solve (Eq. 7).
     Exact,
@@ -123,6 +124,11 @@ impl Predict for CpsoLssvmModel {
 
     fn horizon(&self) -> usize {
         self.model.horizon()
+    }
+
+    /// The final model with its γ and solver (the search trace is not kept).
+    fn state(&self) -> Option<ModelState> {
+        Some(ModelState::Lssvm(TunedLssvm { model: self.model.clone(), gamma: self.gamma, solver: self.solver }))
     }
 }
 
