@@ -9,21 +9,13 @@ use serde_json::Value;
 
 const ONE_AXIS_HEADER: &str = "t_s,raw_dps,drift_dps,compensated_dps,status,model_version";
 
-/// A quick configuration at 10 Hz; `retrain.mode = "live"` on purpose: compensate must still
+mod common;
+
+/// A quick configuration at 10 Hz with `retrain.mode = "live"` on purpose: compensate must still
 /// retrain deterministically.
-const CONFIG: &str = r#"
-[input]
-rate_hz = 10.0
-[retrain]
-mode = "live"
-window = 600
-min_samples = 300
-every_samples = 1000
-apply_delay_samples = 50
-cpso_candidates = 6
-cpso_particles = 3
-cpso_iterations = 2
-"#;
+fn config_text() -> String {
+    format!("[input]\nrate_hz = 10.0\n{}mode = \"live\"\n", common::QUICK_RETRAIN)
+}
 
 fn gyrocomp(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().unwrap()
@@ -40,7 +32,7 @@ fn setup(dir: &Path) -> (String, String) {
     let csv = dir.join("sim.csv").to_str().unwrap().to_owned();
     ok(&["sim", "--preset", "paper", "--seed", "2", "--duration", "300", "-o", &csv]);
     let config = dir.join("c.toml");
-    std::fs::write(&config, CONFIG).unwrap();
+    std::fs::write(&config, config_text()).unwrap();
     (csv, config.to_str().unwrap().to_owned())
 }
 

@@ -7,6 +7,7 @@ pub mod compensate;
 pub mod demo;
 pub mod denoise;
 pub mod eval;
+pub mod eval_motion;
 pub mod input;
 pub mod motion;
 pub mod progress;
