@@ -489,6 +489,13 @@ mod tests {
     }
 
     #[test]
+    fn shipped_adis_file_changes_only_the_sample_rate() {
+        let c = Config::from_toml(include_str!("../configs/adis16405_10hz.toml"), "adis16405_10hz.toml").unwrap();
+        assert_eq!(c.input.rate_hz, 10.0);
+        assert_eq!(Config { input: InputSection::default(), ..c }, Config::default());
+    }
+
+    #[test]
     fn unknown_keys_and_bad_values_name_the_key() {
         let err = Config::from_toml("[denoise]\nwindw = 100\n", "x.toml").unwrap_err();
         assert!(err.0.starts_with("x.toml:") && err.0.contains("windw"), "{err}");
