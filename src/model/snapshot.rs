@@ -22,6 +22,12 @@ pub const MAX_CENTRES: usize = 1 << 22;
 pub enum ModelState {
     /// An LS-SVM (exact or fixed-size) with the hyperparameters it was tuned to.
     Lssvm(TunedLssvm),
+    /// A constant forecast (normalised units): the model the retrainer gives a constant training
+    /// window, e.g. an axis the recording does not have.
+    Constant {
+        /// The forecast value.
+        value: f64,
+    },
 }
 
 /// A tuned LS-SVM: the regression function and how it was obtained (CPSO-LSSVM, paper §2.2).
@@ -41,10 +47,11 @@ pub struct TunedLssvm {
 pub struct InvalidModel(pub String);
 
 impl ModelState {
-    /// The PSR embedding the model reads its input with.
-    pub fn embedding(&self) -> Embedding {
+    /// The PSR embedding the model reads its input with (`None`: it reads no history).
+    pub fn embedding(&self) -> Option<Embedding> {
         match self {
-            Self::Lssvm(t) => t.model.embedding,
+            Self::Lssvm(t) => Some(t.model.embedding),
+            Self::Constant { .. } => None,
         }
     }
 
@@ -85,6 +92,13 @@ impl ModelState {
                 }
                 Ok(())
             }
+            Self::Constant { value } => {
+                if value.is_finite() {
+                    Ok(())
+                } else {
+                    bad(format!("constant forecast {value} is not finite"))
+                }
+            }
         }
     }
 }
@@ -93,12 +107,21 @@ impl Predict for ModelState {
     fn history_len(&self) -> usize {
         match self {
             Self::Lssvm(t) => t.model.history_len(),
+            Self::Constant { .. } => 0,
         }
     }
 
     fn predict(&self, history: &[f64]) -> f64 {
         match self {
             Self::Lssvm(t) => t.model.predict(history),
+            Self::Constant { value } => *value,
+        }
+    }
+
+    fn horizon(&self) -> usize {
+        match self {
+            Self::Lssvm(t) => t.model.horizon(),
+            Self::Constant { .. } => 1,
         }
     }
 

@@ -18,6 +18,7 @@ use crossbeam_channel::{Receiver, Sender, TryRecvError, bounded};
 
 use super::model_slot::SharedModel;
 use crate::model::Fit;
+use crate::model::baselines::MeanModel;
 use crate::model::scaler::MinMaxScaler;
 
 /// When retraining is requested and when its result is applied.
@@ -77,12 +78,21 @@ pub struct TrainResult {
 }
 
 /// Fits the scaler and the model of one axis (paper Eq. 21, then `fit` on normalised data).
+///
+/// A constant window — an axis the recording does not have (0.0 throughout) or a stuck sensor —
+/// gets the constant predictor instead ([`MeanModel`] of the normalised window, which maps back
+/// to the constant): nothing can be fitted on a constant series (an AR design is singular), and
+/// holding the constant is its exact forecast. Without this, one constant axis would fail the
+/// fits of all three.
 pub fn fit_axis<F>(fit: &F, window: &[f64]) -> Result<FittedAxis, String>
 where
     F: Fit,
     F::Model: Send + Sync + 'static,
 {
     let scaler = MinMaxScaler::fit(window).ok_or("training window is empty or holds a non-finite value")?;
+    if scaler.min == scaler.max {
+        return Ok(FittedAxis { model: Arc::new(MeanModel { mean: 0.0 }), scaler });
+    }
     let scaled: Vec<f64> = window.iter().map(|&v| scaler.transform(v)).collect();
     let model = fit.fit(&scaled).map_err(|e| e.to_string())?;
     Ok(FittedAxis { model: Arc::new(model), scaler })
@@ -179,5 +189,23 @@ impl Drop for Trainer {
 impl std::fmt::Debug for Trainer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Trainer").field("running", &self.thread.is_some()).finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::baselines::Ar;
+
+    #[test]
+    fn a_constant_window_gets_the_constant_and_others_the_model() {
+        // AR cannot be fitted on a constant series; the axis still gets a model.
+        let constant = fit_axis(&Ar::aic(3), &[0.25; 100]).unwrap();
+        assert_eq!(constant.scaler.inverse(constant.model.predict(&[0.0; 4])), 0.25);
+        assert_eq!(constant.model.history_len(), 0);
+        let varying: Vec<f64> = (0..100).map(|i| (i as f64 * 0.3).sin() + 0.01 * (i % 7) as f64).collect();
+        let fitted = fit_axis(&Ar::aic(3), &varying).unwrap();
+        assert!((1..=3).contains(&fitted.model.history_len()));
+        assert!(fit_axis(&Ar::aic(3), &[0.0, f64::NAN, 1.0]).is_err());
     }
 }

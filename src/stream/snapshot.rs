@@ -220,16 +220,18 @@ impl Snapshot {
         for (axis, a) in self.axes.iter().enumerate() {
             let invalid = |m: String| SnapshotError::Invalid(format!("axis {axis}: {m}"));
             a.model.validate().map_err(|e| invalid(e.to_string()))?;
-            let (model, pipeline) = (a.model.embedding(), self.compat.embedding);
-            if (model.tau, model.dim) != (pipeline.tau, pipeline.dim) {
-                return Err(invalid("the model's embedding differs from the snapshot's".into()));
-            }
-            if model.horizon != 1 && model.horizon != self.compat.lag + 1 {
-                return Err(invalid(format!(
-                    "the model forecasts {} samples ahead; the pipeline needs 1 or denoise.lag + 1 = {}",
-                    model.horizon,
-                    self.compat.lag + 1
-                )));
+            if let Some(model) = a.model.embedding() {
+                let pipeline = self.compat.embedding;
+                if (model.tau, model.dim) != (pipeline.tau, pipeline.dim) {
+                    return Err(invalid("the model's embedding differs from the snapshot's".into()));
+                }
+                if model.horizon != 1 && model.horizon != self.compat.lag + 1 {
+                    return Err(invalid(format!(
+                        "the model forecasts {} samples ahead; the pipeline needs 1 or denoise.lag + 1 = {}",
+                        model.horizon,
+                        self.compat.lag + 1
+                    )));
+                }
             }
             let s = a.scaler;
             if !(s.min.is_finite() && s.max.is_finite() && s.min <= s.max) {
@@ -339,21 +341,25 @@ mod tests {
         InputSample::new(k, k * 10_000_000, [drift(0) + noise(0), drift(1) + noise(1), drift(2) + noise(2)])
     }
 
-    /// A pipeline that has run `n` samples and has a fitted CPSO-LSSVM (version 4) on each axis.
+    /// A pipeline that has run `n` samples and has the retrainer's kind of model (version 4):
+    /// a CPSO-LSSVM forecasting denoise.lag + 1 samples ahead on axes x and y, and the constant
+    /// model a constant training window gets on axis z.
     fn trained(config: &Config, n: u64) -> Pipeline {
         let mut p = Pipeline::new(config.pipeline().unwrap()).unwrap();
         for k in 0..n {
             p.process(&sample(k));
         }
         let fit = CpsoLssvm {
-            embedding: config.embedding(),
+            embedding: config.cpso_lssvm().unwrap().embedding,
             cpso: CpsoConfig { candidates: 4, particles: 2, iterations: 2, ..CpsoConfig::default() },
             exact_max_rows: 150,
             prototypes: 30,
             ..CpsoLssvm::default()
         };
+        assert!(fit.embedding.horizon > 1);
         for axis in 0..3 {
-            let f = fit_axis(&fit, &p.training_window(axis)).unwrap();
+            let window = if axis == 2 { vec![0.25; 300] } else { p.training_window(axis) };
+            let f = fit_axis(&fit, &window).unwrap();
             p.install_model(axis, f.model, f.scaler, 4).unwrap();
         }
         p
