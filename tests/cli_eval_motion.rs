@@ -52,7 +52,9 @@ fn evaluate(dir: &Path, rec: &Path, static_fraction: &str, models: Option<&str>)
         moved_s,
     ]);
     let config = dir.join("c.toml");
-    std::fs::write(&config, common::QUICK_RETRAIN).unwrap();
+    // The recording is 10 Hz: the shipped 10 Hz settings (rate, gate thresholds) plus quick retrains.
+    let ten_hz = include_str!("../configs/adis16405_10hz.toml");
+    std::fs::write(&config, format!("{ten_hz}\n{}", common::QUICK_RETRAIN)).unwrap();
     let mut args = vec!["eval", moved_s, "--protocol", "motion", "--config", config.to_str().unwrap(), "--json"];
     if let Some(m) = models {
         args.extend(["--models", m]);
