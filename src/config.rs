@@ -219,6 +219,8 @@ pub struct RetrainSection {
     pub seed: u64,
     /// Threads for the CPSO fitness evaluations (0 = all cores).
     pub threads: usize,
+    /// Nice value of the retrain thread(s), 0 … 19 (higher = yields the CPU to the sample loop).
+    pub nice: i32,
 }
 
 impl Default for RetrainSection {
@@ -238,6 +240,7 @@ impl Default for RetrainSection {
             cpso_iterations: cpso.iterations,
             seed: 0,
             threads: 1,
+            nice: 10,
         }
     }
 }
@@ -444,6 +447,9 @@ impl Config {
             return err(format!("input.spike_z: {} must be 0 (off) or a finite value of at least 3", i.spike_z));
         }
         let r = &self.retrain;
+        if !(0..=19).contains(&r.nice) {
+            return err(format!("retrain.nice: {} is outside 0..=19", r.nice));
+        }
         let mode = match r.mode.as_str() {
             "deterministic" => RetrainMode::Deterministic,
             "live" => RetrainMode::Live,

@@ -24,6 +24,7 @@ pub enum BuildError {
 /// ([`Config::cpso_lssvm`], paper §2.2) attached on its own thread.
 pub fn build_pipeline(config: &Config) -> Result<Pipeline, BuildError> {
     let mut pipeline = Pipeline::new(config.pipeline()?)?;
-    pipeline.attach_trainer(Trainer::spawn(config.cpso_lssvm()?).map_err(BuildError::Trainer)?);
+    let trainer = Trainer::spawn_niced(config.cpso_lssvm()?, config.retrain.nice).map_err(BuildError::Trainer)?;
+    pipeline.attach_trainer(trainer);
     Ok(pipeline)
 }

@@ -98,6 +98,21 @@ where
     Ok(FittedAxis { model: Arc::new(model), scaler })
 }
 
+/// Raises the calling thread's nice value by `nice` (Linux: `setpriority(PRIO_PROCESS, 0, …)`
+/// acts on the calling thread only).
+fn lower_priority(nice: i32) {
+    #[cfg(target_os = "linux")]
+    {
+        // SAFETY: setpriority takes plain integers and has no memory effects.
+        let rc = unsafe { libc::setpriority(libc::PRIO_PROCESS, 0, nice) };
+        if rc != 0 {
+            tracing::warn!(nice, error = %std::io::Error::last_os_error(), "could not lower the retrain thread's priority");
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    tracing::debug!(nice, "thread priorities are only lowered on Linux");
+}
+
 /// Handle of the trainer thread; dropping it closes the request channel and joins the thread.
 pub struct Trainer {
     requests: Option<Sender<TrainRequest>>,
@@ -115,8 +130,21 @@ pub enum TrainerError {
 }
 
 impl Trainer {
-    /// Starts the trainer thread with a fitting configuration.
+    /// Starts the trainer thread with a fitting configuration, at the scheduling priority of
+    /// the caller.
     pub fn spawn<F>(fit: F) -> std::io::Result<Self>
+    where
+        F: Fit + Send + 'static,
+        F::Model: Send + Sync + 'static,
+    {
+        Self::spawn_niced(fit, 0)
+    }
+
+    /// [`Trainer::spawn`] with the trainer thread's nice value raised by `nice` (0 … 19; Linux
+    /// keeps nice per thread, and the CPSO worker threads it starts inherit it), so that a fit
+    /// yields the CPU to the sample loop. Elsewhere, or if the call fails, the thread keeps the
+    /// caller's priority (logged).
+    pub fn spawn_niced<F>(fit: F, nice: i32) -> std::io::Result<Self>
     where
         F: Fit + Send + 'static,
         F::Model: Send + Sync + 'static,
@@ -124,6 +152,9 @@ impl Trainer {
         let (req_tx, req_rx) = bounded::<TrainRequest>(1);
         let (res_tx, res_rx) = bounded::<TrainResult>(1);
         let thread = std::thread::Builder::new().name("gyrocomp-retrain".into()).spawn(move || {
+            if nice > 0 {
+                lower_priority(nice);
+            }
             for req in req_rx {
                 let started = std::time::Instant::now();
                 let fits: Result<Vec<FittedAxis>, String> = req
