@@ -60,6 +60,15 @@ fn offline_csv(input: &Path, config: &Config, out: &Path) -> Vec<u8> {
     std::fs::read(out).unwrap()
 }
 
+/// Replays `input`'s three axes with `config` through the `daemon` choice into `out`; `extra`
+/// arguments follow.
+fn replay_file(input: &Path, config: &Path, daemon: &str, out: &Path, extra: &[&str]) -> Value {
+    let mut args = vec![input.to_str().unwrap(), "--config", config.to_str().unwrap(), "--column", COLUMNS];
+    args.extend(["--daemon", daemon, "-o", out.to_str().unwrap(), "--json"]);
+    args.extend(extra);
+    replay(&args)
+}
+
 fn count(v: &Value, key: &str) -> u64 {
     v[key].as_u64().unwrap_or_else(|| panic!("`{key}` in {v}"))
 }
@@ -71,19 +80,7 @@ fn embedded_replay_equals_the_offline_driver_bit_for_bit() {
     let text = config_text("");
     let config_path = write_config(dir.path(), &text);
     let out = dir.path().join("replayed.csv");
-    let s = replay(&[
-        input.to_str().unwrap(),
-        "--config",
-        config_path.to_str().unwrap(),
-        "--column",
-        COLUMNS,
-        "--daemon",
-        "embedded",
-        "--max",
-        "-o",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
+    let s = replay_file(&input, &config_path, "embedded", &out, &["--max"]);
     assert_eq!(s["daemon"], "embedded");
     assert_eq!((count(&s, "sent"), count(&s, "received"), count(&s, "dropped")), (3000, 3000, 0));
     assert!(count(&s, "model_version") >= 2, "{s}");
@@ -108,20 +105,7 @@ fn replay_against_a_running_daemon_is_lossless_through_a_small_buffer() {
     );
     let config_path = write_config(dir.path(), &private_text);
     let out = dir.path().join("replayed.csv");
-    let s = replay(&[
-        input.to_str().unwrap(),
-        "--config",
-        config_path.to_str().unwrap(),
-        "--column",
-        COLUMNS,
-        "--daemon",
-        "running",
-        "--find-daemon-s",
-        "5",
-        "-o",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
+    let s = replay_file(&input, &config_path, "running", &out, &["--find-daemon-s", "5"]);
     let summary = daemon.stop().unwrap();
     assert_eq!(s["daemon"], "running");
     assert_eq!((count(&s, "sent"), count(&s, "received"), count(&s, "dropped")), (10_000, 10_000, 0));
