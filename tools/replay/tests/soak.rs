@@ -4,7 +4,8 @@
 //! The daemon runs in this test process (the `gyrocompd` code, `EmbeddedDaemon`, private domain)
 //! and the `replay` binary is a separate process, so this process's RSS is the daemon's. RSS is
 //! sampled every 50 ms; warm-up ends when the daemon's status service reports a given model
-//! version: growth = the largest RSS after that minus the RSS at that point.
+//! version: growth = the largest RSS after that minus the largest RSS up to that point (RSS also
+//! falls when a fit frees its buffers, so a dip is no baseline: a leak shows as new peaks).
 //!
 //! Measured (release, the hour): RSS steps up while the allocator's arenas settle — 22.6 MB at
 //! version 2, 26.1 at 3, 28.2 at 6, 29.0 at 14 — and then stays flat: +0.02 MB from version 14
@@ -83,12 +84,14 @@ fn soak(dir: &Path, seconds: f64, warm_version: u64) -> Option<SoakResult> {
             let status = node.status_subscriber().unwrap();
             let mut samples = Vec::new();
             let mut warm_rss = None;
+            let mut peak = 0;
             let mut by_version = Vec::new();
             while !done.load(Ordering::Relaxed) {
                 let rss = rss_bytes().unwrap_or(0);
+                peak = peak.max(rss);
                 while let Ok(Some(s)) = status.try_recv() {
                     if s.model_version >= warm_version && warm_rss.is_none() {
-                        warm_rss = Some(rss);
+                        warm_rss = Some(peak);
                     }
                     if by_version.last().is_none_or(|&(v, _)| v != s.model_version) {
                         by_version.push((s.model_version, rss));
@@ -131,7 +134,7 @@ fn check(r: &SoakResult, samples: u64, growth_limit: u64) {
     let s = &r.summary;
     let growth = r.rss_max_after.saturating_sub(r.rss_at_warm);
     eprintln!(
-        "soak: {samples} samples, {:.1} s, {:.0} samples/s, model version {}; daemon RSS after warm-up {:.1} MB, growth {} kB",
+        "soak: {samples} samples, {:.1} s, {:.0} samples/s, model version {}; daemon RSS peak during warm-up {:.1} MB, growth {} kB",
         s["duration_s"].as_f64().unwrap(),
         s["samples_per_s"].as_f64().unwrap(),
         s["model_version"],
