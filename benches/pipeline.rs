@@ -1,7 +1,9 @@
 //! Criterion benchmark of the per-sample `Pipeline` (issue 5): cost of `Pipeline::process` for
 //! three axes with a fitted fixed-size CPSO-LSSVM (retrain window 4000, m_p = 100, default CPSO)
-//! installed on every axis, static samples (the model path: denoise + L + 1 = 6 iterated
-//! predictions per axis). Beside it, in the same run: `baseline_denoise_push_w256`, one
+//! installed on every axis, static samples (the model path: causal denoise + one direct
+//! (L + 1)-step prediction per axis). Beside it, in the same run: `baseline_denoise_at_w256`, one
+//! uncached `Denoiser::denoise_at` of a 256-sample window at lag 5 (what each push cost before
+//! the finest-detail cache; a fixed yardstick for ratios), `denoise_push_w256`, one
 //! `CausalDenoiser::push` (the default window), and `process_no_model` (bias-estimate path).
 //!
 //! After criterion, a plain loop times 200,000 single `process` calls and prints p50/p99/p99.9
@@ -19,6 +21,7 @@ use gyrocomp::model::Fit;
 use gyrocomp::model::scaler::MinMaxScaler;
 use gyrocomp::sim::{Generator, Preset};
 use gyrocomp::stream::{CausalDenoiser, InputSample, Pipeline};
+use gyrocomp::wavelet::{DenoiseConfig, Denoiser};
 
 const PERIOD_NS: u64 = 100_000_000;
 
@@ -78,9 +81,18 @@ fn bench(c: &mut Criterion) {
     for r in &s.rates[..256] {
         denoiser.push(r[0]);
     }
-    let mut i = 256;
     let rates = s.rates.clone();
-    group.bench_function("baseline_denoise_push_w256", |b| {
+    let column: Vec<f64> = rates.iter().map(|r| r[0]).collect();
+    let mut uncached = Denoiser::new(DenoiseConfig::paper(), 256);
+    let mut start = 0;
+    group.bench_function("baseline_denoise_at_w256", |b| {
+        b.iter(|| {
+            start = if start + 257 < column.len() { start + 1 } else { 0 };
+            uncached.denoise_at(black_box(&column[start..start + 256]), 250).0
+        })
+    });
+    let mut i = 256;
+    group.bench_function("denoise_push_w256", |b| {
         b.iter(|| {
             i = if i + 1 < rates.len() { i + 1 } else { 256 };
             denoiser.push(black_box(rates[i][0]))

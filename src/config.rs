@@ -18,6 +18,14 @@ use crate::wavelet::{DenoiseConfig, Wavelet};
 pub const DEFAULT_DENOISE_WINDOW: usize = 256;
 /// Default causal lag (samples): see the trade-off table in the README.
 pub const DEFAULT_DENOISE_LAG: usize = 5;
+/// Largest `denoise.window`, `motion.window` and `ipc.subscriber_buffer` (samples).
+pub const MAX_WINDOW: usize = 1 << 20;
+/// Largest `retrain.window` (static samples per axis; the history of three axes is 48 MB).
+pub const MAX_RETRAIN_WINDOW: usize = 1_000_000;
+/// Largest `retrain.exact_max_rows`: the exact LS-SVM holds an n × n matrix (10,000 rows: 800 MB).
+pub const MAX_EXACT_ROWS: usize = 10_000;
+/// Largest embedding span `(embedding.dim − 1) · embedding.tau`, samples.
+pub const MAX_EMBEDDING_SPAN: usize = 100_000;
 
 /// The whole configuration.
 #[derive(Debug, Clone, PartialEq, Deserialize, Default)]
@@ -39,6 +47,16 @@ pub struct Config {
     pub ipc: IpcSection,
     /// `[log]`: the daemon's log output.
     pub log: LogSection,
+    /// `[state]`: where the daemon keeps its model snapshot.
+    pub state: StateSection,
+}
+
+/// `[state]` keys (used by `gyrocompd`).
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct StateSection {
+    /// Directory of the model snapshot (an absolute path; empty = no snapshots).
+    pub dir: String,
 }
 
 /// `[ipc]` keys (used by `gyrocompd`).
@@ -144,7 +162,7 @@ pub struct MotionSection {
 
 impl Default for MotionSection {
     fn default() -> Self {
-        Self { rate_dps: 1.0, variance_dps2: 0.05, window: 20 }
+        Self { rate_dps: 2.0, variance_dps2: 0.6, window: 20 }
     }
 }
 
@@ -158,11 +176,15 @@ pub struct InputSection {
     pub rate_hz: f64,
     /// A timestamp step above this many nominal periods is a gap.
     pub gap_factor: f64,
+    /// Spike threshold in σ of the recent static samples (0 = off).
+    pub spike_z: f64,
+    /// Longest run of outliers rejected as spikes (a longer run is a real change).
+    pub spike_max_run: u32,
 }
 
 impl Default for InputSection {
     fn default() -> Self {
-        Self { range_dps: 2000.0, rate_hz: 100.0, gap_factor: 3.0 }
+        Self { range_dps: 2000.0, rate_hz: 100.0, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3 }
     }
 }
 
@@ -197,6 +219,8 @@ pub struct RetrainSection {
     pub seed: u64,
     /// Threads for the CPSO fitness evaluations (0 = all cores).
     pub threads: usize,
+    /// Nice value of the retrain thread(s), 0 … 19 (higher = yields the CPU to the sample loop).
+    pub nice: i32,
 }
 
 impl Default for RetrainSection {
@@ -216,6 +240,7 @@ impl Default for RetrainSection {
             cpso_iterations: cpso.iterations,
             seed: 0,
             threads: 1,
+            nice: 10,
         }
     }
 }
@@ -279,16 +304,54 @@ impl Config {
     /// Checks values that the types alone do not: names, ranges, and window against lag.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.causal_denoise()?;
+        self.pipeline()?;
+        self.ipc_settings()?;
+        self.ipc_domain()?;
+        self.log_format()?;
+        self.state_dir()?;
+        Ok(())
+    }
+
+    /// The snapshot directory of `[state] dir`: `None` when empty (snapshots off), else an
+    /// absolute path.
+    pub fn state_dir(&self) -> Result<Option<PathBuf>, ConfigError> {
+        if self.state.dir.is_empty() {
+            return Ok(None);
+        }
+        let dir = PathBuf::from(&self.state.dir);
+        if !dir.is_absolute() {
+            return Err(ConfigError(format!("state.dir: {} is not an absolute path", dir.display())));
+        }
+        Ok(Some(dir))
+    }
+
+    /// The embedding and the sizes that set memory use, against their limits (checked before
+    /// anything is computed from them).
+    fn limits(&self) -> Result<(), ConfigError> {
         if self.embedding.tau == 0 {
             return Err(ConfigError("embedding.tau must be at least 1".into()));
         }
         if self.embedding.dim == 0 {
             return Err(ConfigError("embedding.dim must be at least 1".into()));
         }
-        self.pipeline()?;
-        self.ipc_settings()?;
-        self.ipc_domain()?;
-        self.log_format()?;
+        let span = (self.embedding.dim - 1).checked_mul(self.embedding.tau);
+        if span.is_none_or(|s| s > MAX_EMBEDDING_SPAN) {
+            return Err(ConfigError(format!(
+                "embedding.tau/embedding.dim: (dim − 1)·tau must not exceed {MAX_EMBEDDING_SPAN}, got tau = {}, dim = {}",
+                self.embedding.tau, self.embedding.dim
+            )));
+        }
+        for (key, value, max) in [
+            ("denoise.window", self.denoise.window, MAX_WINDOW),
+            ("motion.window", self.motion.window, MAX_WINDOW),
+            ("ipc.subscriber_buffer", self.ipc.subscriber_buffer, MAX_WINDOW),
+            ("retrain.window", self.retrain.window, MAX_RETRAIN_WINDOW),
+            ("retrain.exact_max_rows", self.retrain.exact_max_rows, MAX_EXACT_ROWS),
+        ] {
+            if value > max {
+                return Err(ConfigError(format!("{key}: {value} exceeds the limit {max}")));
+            }
+        }
         Ok(())
     }
 
@@ -364,6 +427,7 @@ impl Config {
         let positive = |key: &str, v: f64| {
             if v > 0.0 && v.is_finite() { Ok(()) } else { err(format!("{key}: {v} must be positive and finite")) }
         };
+        self.limits()?;
         if self.pipeline.bias_samples == 0 {
             return err("pipeline.bias_samples must be at least 1".into());
         }
@@ -379,7 +443,13 @@ impl Config {
         if !(i.gap_factor > 1.0 && i.gap_factor.is_finite()) {
             return err(format!("input.gap_factor: {} must be finite and above 1", i.gap_factor));
         }
+        if !(i.spike_z >= 0.0 && i.spike_z.is_finite()) || (i.spike_z > 0.0 && i.spike_z < 3.0) {
+            return err(format!("input.spike_z: {} must be 0 (off) or a finite value of at least 3", i.spike_z));
+        }
         let r = &self.retrain;
+        if !(0..=19).contains(&r.nice) {
+            return err(format!("retrain.nice: {} is outside 0..=19", r.nice));
+        }
         let mode = match r.mode.as_str() {
             "deterministic" => RetrainMode::Deterministic,
             "live" => RetrainMode::Live,
@@ -410,6 +480,8 @@ impl Config {
                 range_dps: i.range_dps,
                 period_ns: (1e9 / i.rate_hz).round().max(1.0) as u64,
                 gap_factor: i.gap_factor,
+                spike_z: i.spike_z,
+                spike_max_run: i.spike_max_run,
             },
             retrain: RetrainSchedule {
                 mode,
@@ -423,7 +495,11 @@ impl Config {
     }
 
     /// The retrainer's CPSO-LSSVM (paper §2.2) from `[retrain]` and `[embedding]`; the other
-    /// settings are [`CpsoLssvm::default`].
+    /// settings are [`CpsoLssvm::default`]. Its targets lie `denoise.lag + 1` samples ahead
+    /// (direct multi-step forecasting, [`Embedding::horizon`]): the pipeline's newest denoised
+    /// value is L samples old when a sample arrives, and one model evaluation then reaches that
+    /// sample — instead of iterating a one-step model L + 1 times, which costs L + 1 evaluations
+    /// per sample and compounds its error; CPSO also tunes γ, σ² on the forecast actually used.
     pub fn cpso_lssvm(&self) -> Result<CpsoLssvm, ConfigError> {
         let r = &self.retrain;
         if r.prototypes == 0 {
@@ -447,7 +523,7 @@ impl Config {
             ..CpsoConfig::default()
         };
         Ok(CpsoLssvm {
-            embedding: self.embedding(),
+            embedding: self.embedding().with_horizon(self.denoise.lag + 1),
             cpso,
             exact_max_rows: r.exact_max_rows,
             prototypes: r.prototypes,
@@ -474,7 +550,7 @@ impl Config {
 
     /// The embedding of `[embedding]`.
     pub fn embedding(&self) -> Embedding {
-        Embedding { tau: self.embedding.tau, dim: self.embedding.dim }
+        Embedding::new(self.embedding.tau, self.embedding.dim)
     }
 }
 
@@ -486,6 +562,17 @@ mod tests {
     fn shipped_default_file_equals_the_built_in_defaults() {
         let text = include_str!("../configs/default.toml");
         assert_eq!(Config::from_toml(text, "configs/default.toml").unwrap(), Config::default());
+    }
+
+    #[test]
+    fn shipped_10hz_file_loads_and_changes_only_rate_and_gate() {
+        let text = include_str!("../configs/adis16405_10hz.toml");
+        let c = Config::from_toml(text, "configs/adis16405_10hz.toml").unwrap();
+        c.pipeline().unwrap();
+        assert_eq!((c.input.rate_hz, c.motion.rate_dps, c.motion.variance_dps2), (10.0, 1.0, 0.05));
+        let mut expected = Config::default();
+        (expected.input.rate_hz, expected.motion.rate_dps, expected.motion.variance_dps2) = (10.0, 1.0, 0.05);
+        assert_eq!(c, expected);
     }
 
     #[test]
@@ -513,6 +600,7 @@ mod tests {
             ("[motion]\nwindow = 1\n", "motion.window"),
             ("[motion]\nrate_dps = -1.0\n", "motion.rate_dps"),
             ("[input]\ngap_factor = 0.5\n", "input.gap_factor"),
+            ("[input]\nspike_z = 1.5\n", "input.spike_z"),
             ("[input]\nrate_hz = 0.0\n", "input.rate_hz"),
             ("[pipeline]\nbias_samples = 0\n", "pipeline.bias_samples"),
             ("[retrain]\nwindw = 4000\n", "windw"),
@@ -527,6 +615,12 @@ mod tests {
             ("[log]\nlevel = \"info,[\"\n", "log.level"),
             ("[log]\ncolour = true\n", "colour"),
             ("[motion]\nthreshold = 1.0\n", "threshold"),
+            ("[state]\ndir = \"relative/dir\"\n", "state.dir"),
+            ("[state]\npath = \"/x\"\n", "path"),
+            ("[embedding]\ntau = 9223372036854775807\n", "embedding.tau"),
+            ("[retrain]\nwindow = 5000000\n", "retrain.window"),
+            ("[retrain]\nexact_max_rows = 100000\n", "retrain.exact_max_rows"),
+            ("[denoise]\nwindow = 100000000\n", "denoise.window"),
         ] {
             let err = Config::from_toml(text, "x.toml").unwrap_err();
             assert!(err.0.contains(key), "{text}: {err}");

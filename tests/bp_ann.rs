@@ -69,7 +69,7 @@ fn henon(n: usize) -> Vec<f64> {
 #[test]
 fn predicts_a_chaotic_series_through_the_embedding() {
     let x = henon(1300);
-    let config = BpAnn { embedding: Embedding { tau: 1, dim: 3 }, ..BpAnn::default() };
+    let config = BpAnn { embedding: Embedding::new(1, 3), ..BpAnn::default() };
     let m = config.fit(&x[..1000]).unwrap();
     assert_eq!(m.history_len(), 3);
     let pred = predict_from(&m, &x, 1000);
@@ -85,7 +85,7 @@ fn predicts_a_chaotic_series_through_the_embedding() {
 fn deterministic_per_seed() {
     let x = henon(400);
     for split in [ValSplit::Random, ValSplit::Tail] {
-        let c = BpAnn { embedding: Embedding { tau: 1, dim: 3 }, max_epochs: 30, val_split: split, ..BpAnn::default() };
+        let c = BpAnn { embedding: Embedding::new(1, 3), max_epochs: 30, val_split: split, ..BpAnn::default() };
         let a = c.fit(&x).unwrap();
         let b = c.fit(&x).unwrap();
         assert_eq!(a, b);
@@ -97,7 +97,7 @@ fn deterministic_per_seed() {
 #[test]
 fn stops_by_the_documented_rules() {
     let x = henon(400);
-    let base = BpAnn { embedding: Embedding { tau: 1, dim: 3 }, ..BpAnn::default() };
+    let base = BpAnn { embedding: Embedding::new(1, 3), ..BpAnn::default() };
     let r = *BpAnn { max_epochs: 3, ..base }.fit(&x).unwrap().report();
     assert!(r.epochs <= 3 && (r.stop == StopReason::MaxEpochs || r.stop == StopReason::ValidationFailures), "{r:?}");
     let r = *BpAnn { val_fraction: 0.0, max_epochs: 5, ..base }.fit(&x).unwrap().report();
@@ -114,10 +114,7 @@ fn bad_input_is_a_fit_error() {
     x[10] = f64::INFINITY;
     assert_eq!(c.fit(&x), Err(FitError::NonFinite));
     assert!(matches!(BpAnn { mu_inc: 0.5, ..c }.fit(&henon(300)), Err(FitError::InvalidConfig(_))));
-    assert!(matches!(
-        BpAnn { embedding: Embedding { tau: 1, dim: 0 }, ..c }.fit(&henon(300)),
-        Err(FitError::InvalidConfig(_))
-    ));
+    assert!(matches!(BpAnn { embedding: Embedding::new(1, 0), ..c }.fit(&henon(300)), Err(FitError::InvalidConfig(_))));
 }
 
 #[test]

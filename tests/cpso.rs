@@ -133,7 +133,7 @@ fn test_rmse(model: &impl gyrocomp::model::Predict, series: &[f64], start: usize
 #[test]
 fn cpso_lssvm_beats_a_bad_fixed_choice_on_both_solvers() {
     let series = logistic_series(460);
-    let embedding = Embedding { tau: 1, dim: 2 };
+    let embedding = Embedding::new(1, 2);
     let train = &series[..400];
     let bad = LssvmConfig { gamma: 0.1, sigma2: 500.0, embedding }.fit(train).unwrap();
     let bad_rmse = test_rmse(&bad, &series, 400);
@@ -166,7 +166,7 @@ fn train_mae_fitness_rewards_overfitting() {
     // Eq. 13 rewards interpolating the noise: with room to do so (tiny σ², huge γ) its choice
     // fits the training rows far better and the test rows worse than the held-out choice.
     let series = logistic_series(360);
-    let embedding = Embedding { tau: 1, dim: 2 };
+    let embedding = Embedding::new(1, 2);
     let train = &series[..300];
     let cpso = CpsoConfig { candidates: 20, particles: 10, iterations: 15, ..CpsoConfig::default() };
     let fit = |fitness| {
@@ -240,7 +240,7 @@ fn real_data_paper_group() {
 #[test]
 fn cpso_lssvm_is_bit_identical_for_any_thread_count() {
     let series = logistic_series(330);
-    let embedding = Embedding { tau: 1, dim: 2 };
+    let embedding = Embedding::new(1, 2);
     for exact_max_rows in [1000, 100] {
         let run = |threads| {
             let cpso = CpsoConfig { candidates: 10, particles: 5, iterations: 4, threads, ..CpsoConfig::default() };

@@ -117,7 +117,7 @@ fn wire_layout_matches_design() {
         ],
         [0, 8, 16, 40, 64, 72, 76]
     );
-    assert_eq!(size_of::<StatusSample>(), 112);
+    assert_eq!(size_of::<StatusSample>(), 160);
     // SAFETY: type_name only returns a string constant.
     unsafe {
         assert_eq!(<RawSample as ZeroCopySend>::type_name(), "gyrocomp::RawSample");

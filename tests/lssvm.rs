@@ -26,7 +26,7 @@ fn assert_close(got: &[f64], want: &[f64], what: &str) {
 fn exact_lssvm_matches_the_numpy_reference() {
     let g = golden("lssvm.json");
     let series = floats(&g["series"]);
-    let embedding = Embedding { tau: g["tau"].as_u64().unwrap() as usize, dim: g["dim"].as_u64().unwrap() as usize };
+    let embedding = Embedding::new(g["tau"].as_u64().unwrap() as usize, g["dim"].as_u64().unwrap() as usize);
     let n_train = g["n_train"].as_u64().unwrap() as usize;
     let train_len = embedding.history() + n_train;
     for case in g["cases"].as_array().unwrap() {
@@ -57,7 +57,7 @@ fn smooth_series(n: usize) -> Vec<f64> {
 #[test]
 fn closed_form_loo_equals_brute_force_refits() {
     let s = smooth_series(140);
-    let e = Embedding { tau: 3, dim: 3 }.embed(&s);
+    let e = Embedding::new(3, 3).embed(&s);
     let n = e.rows();
     for (gamma, sigma2) in [(100.0, 0.5), (3.0, 20.0)] {
         let sol = solve_exact(&e.inputs, e.dim, &e.targets, gamma, sigma2, true, 0).unwrap();
@@ -82,7 +82,7 @@ fn nystrom_with_every_row_a_prototype_equals_exact() {
             2.0 * z - 1.0
         })
         .collect();
-    let embedding = Embedding { tau: 4, dim: 3 };
+    let embedding = Embedding::new(4, 3);
     let train = &s[..220];
     let (gamma, sigma2) = (50.0, 0.05);
     let exact = LssvmConfig { gamma, sigma2, embedding }.fit(train).unwrap();
@@ -99,7 +99,7 @@ fn nystrom_with_every_row_a_prototype_equals_exact() {
 #[test]
 fn nystrom_error_falls_as_prototypes_grow() {
     let s = smooth_series(900);
-    let embedding = Embedding { tau: 5, dim: 3 };
+    let embedding = Embedding::new(5, 3);
     let train = &s[..800];
     let (gamma, sigma2) = (100.0, 0.1);
     let exact = predict_from(&LssvmConfig { gamma, sigma2, embedding }.fit(train).unwrap(), &s, 800);

@@ -87,17 +87,36 @@ fn outputs_never_depend_on_future_samples() {
 #[test]
 fn bad_input_is_flagged_substituted_and_kept_out_of_the_buffers() {
     let clean = samples(2000, 3);
+    // Between clean samples: invalid rates, a repeated seq, a timestamp going back, an isolated
+    // spike. The dirty stream is numbered afresh (seq = index), so only the repeats are duplicates.
     let mut dirty = Vec::new();
-    let bad = [f64::NAN, f64::INFINITY, -1e5, f64::NEG_INFINITY];
+    let mut is_bad = Vec::new();
+    let bad = [f64::NAN, f64::INFINITY, -1e5, f64::NEG_INFINITY, 4.0, 0.0];
     for (k, s) in clean.iter().enumerate() {
         dirty.push(*s);
+        is_bad.push(false);
         if k % 97 == 50 {
             let mut b = *s;
-            b.seq += 1_000_000;
             b.t_ns += PERIOD_NS / 2;
-            b.rate_dps[k % 3] = bad[k % 4];
+            match (k / 97) % 6 {
+                4 => b.rate_dps[k % 3] += bad[4], // spike
+                5 => b.t_ns -= PERIOD_NS,         // time going back
+                i => b.rate_dps[k % 3] = bad[i],
+            }
             dirty.push(b);
+            is_bad.push(true);
         }
+    }
+    let (mut seq, mut bad_count) = (0, 0);
+    for (k, s) in dirty.iter_mut().enumerate() {
+        // Every 4th bad sample repeats the seq before it.
+        if is_bad[k] && bad_count % 4 == 0 {
+            s.seq = seq - 1;
+        } else {
+            s.seq = seq;
+            seq += 1;
+        }
+        bad_count += usize::from(is_bad[k]);
     }
     let mut pc = Pipeline::new(config()).unwrap();
     let mut pd = Pipeline::new(config()).unwrap();
@@ -109,16 +128,27 @@ fn bad_input_is_flagged_substituted_and_kept_out_of_the_buffers() {
     let od = run(&mut pd, &dirty);
     assert_eq!(od.len(), dirty.len());
     let mut good = oc.iter();
-    for (i, o) in dirty.iter().zip(&od) {
+    for ((i, o), &b) in dirty.iter().zip(&od).zip(&is_bad) {
         assert!(finite(o), "{o:?}");
         assert_eq!(o.seq, i.seq);
-        if i.seq >= 1_000_000 {
-            assert!(o.status & STATUS_REJECTED != 0);
+        if b {
+            assert!(o.status & STATUS_REJECTED != 0, "{i:?} → {o:?}");
         } else {
-            assert_eq!(o, good.next().unwrap(), "a rejected sample changed a later output");
+            let c = good.next().unwrap();
+            let same = (o.t_ns, o.rate_dps, o.drift_dps, o.model_version, o.status);
+            assert_eq!(
+                same,
+                (c.t_ns, c.rate_dps, c.drift_dps, c.model_version, c.status),
+                "a rejected sample changed a later output"
+            );
         }
     }
-    assert_eq!(pd.stats().rejected, dirty.len() as u64 - clean.len() as u64);
+    let s = pd.stats();
+    assert_eq!(s.rejected, dirty.len() as u64 - clean.len() as u64);
+    let i = s.input;
+    assert!(i.duplicates > 0 && i.time_backwards > 0 && i.spikes > 0 && i.invalid > 0, "{i:?}");
+    assert_eq!(i.duplicates + i.time_backwards + i.spikes + i.invalid, s.rejected);
+    assert_eq!(i.seq_skipped, 0);
     assert_eq!(pc.training_windows(), pd.training_windows());
     assert!(pd.training_windows().iter().flatten().all(|v| v.is_finite()));
 }
@@ -146,8 +176,12 @@ fn motion_is_flagged_held_counted_and_kept_out_of_training() {
         })
         .collect();
     let before = out[start - 1];
+    let onset = start + len / 2;
     for k in start..start + len {
-        assert!(out[k].status & STATUS_MOVING != 0, "sample {k}");
+        // The unflagged rotation starts with up to `spike_max_run` (3) samples rejected as spikes
+        // before the gate takes over; both hold the drift.
+        let want = if (onset..onset + 3).contains(&k) { STATUS_REJECTED } else { STATUS_MOVING };
+        assert!(out[k].status & want != 0, "sample {k}: {:?}", out[k]);
         assert_eq!(out[k].drift_dps, before.drift_dps, "drift is held during motion");
         assert_eq!(horizons[k], (k - start + 1) as u64);
         assert!(finite(&out[k]));
@@ -162,7 +196,8 @@ fn motion_is_flagged_held_counted_and_kept_out_of_training() {
         clean.iter().enumerate().filter(|(k, _)| *k < start || *k >= end).map(|(_, s)| *s).collect();
     run(&mut q, &kept);
     assert_eq!(p.training_windows(), q.training_windows());
-    assert_eq!(p.stats().moving, (end - start) as u64);
+    assert_eq!(p.stats().moving + p.stats().input.spikes, (end - start) as u64);
+    assert_eq!(p.stats().input.spikes, 3);
 }
 
 #[test]

@@ -60,6 +60,8 @@ fn no_allocation_per_sample() {
                 100..=149 => s.flags |= FLAG_MOVING,
                 300 => s.rate_dps[1] = f64::NAN,
                 400 => s.rate_dps[2] = 1e9,
+                500 => s.rate_dps[0] += 0.9,
+                600 => s.seq -= 1,
                 _ => {}
             }
             s
@@ -84,15 +86,16 @@ fn no_allocation_per_sample() {
     assert_eq!(ALLOCS.with(|a| a.replace(0)), 1);
     assert_eq!(p.model_version(), 1);
     COUNTING.with(|c| c.set(true));
-    let mut gap = InputSample::new(u64::MAX, input[n - 1].t_ns + 1_000_000_000_000, [0.0; 3]);
+    let gap = InputSample::new(n as u64 + 5, input[n - 1].t_ns + 1_000_000_000_000, [0.0; 3]);
     for s in &input[warm + 1..] {
         p.process(s);
     }
-    gap.seq = 0;
     p.process(&gap);
     COUNTING.with(|c| c.set(false));
     let allocs = ALLOCS.with(Cell::get);
     assert_eq!(allocs, 0, "{allocs} allocations over {} samples", n - warm);
     let s = p.stats();
     assert!(s.moving > 0 && s.rejected > 0 && s.gaps > 0, "{s:?}");
+    let i = s.input;
+    assert!(i.invalid > 0 && i.spikes > 0 && i.duplicates > 0 && i.seq_skipped > 0, "{i:?}");
 }

@@ -3,13 +3,14 @@
 use std::process::ExitCode;
 
 use clap::Parser;
+use gyrocomp::cli::progress::stderr_clearing_bar;
 use gyrocomp::cli::{Cli, error_chain, run};
 use tracing_subscriber::EnvFilter;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let filter = EnvFilter::try_new(&cli.log).unwrap_or_else(|_| EnvFilter::new("info"));
-    tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_target(false).init();
+    tracing_subscriber::fmt().with_env_filter(filter).with_writer(stderr_clearing_bar).with_target(false).init();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {

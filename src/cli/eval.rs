@@ -1,7 +1,9 @@
 //! `gyrocomp eval`: the paper's evaluation protocol (design.md) for the paper's models beside the
-//! honest baselines, as a table shaped like the paper's Tables 1–2 or as JSON.
+//! honest baselines, as a table shaped like the paper's Tables 1–2 or as JSON; with
+//! `--protocol motion`, the motion-injected protocol ([`super::eval_motion`]).
 
 use std::path::PathBuf;
+use std::str::FromStr;
 
 use clap::ValueEnum;
 use serde::Serialize;
@@ -16,6 +18,9 @@ use crate::eval::paper::{PaperProtocol, PaperScores, Prepared, score};
 pub enum Protocol {
     /// The paper's: first N samples, denoise, PSR, scale, 80/20 split, one-step prediction.
     Paper,
+    /// Motion-injected (a file made by `gyrocomp motion`): compensated rate and angle against the
+    /// injected truth, for gyrocomp and the baselines.
+    Motion,
 }
 
 /// Arguments of `gyrocomp eval`.
@@ -26,13 +31,15 @@ pub struct EvalArgs {
     /// Rate column, deg/s.
     #[arg(long, default_value = "gx_dps")]
     pub column: String,
-    /// Comma-separated models to run (default: all).
+    /// Comma-separated models to run (default: all). Paper protocol: cpso-lssvm, lssvm, bp-ann,
+    /// persistence, ar, mean, bias-hold, linear-psr. Motion protocol: gyrocomp, gyrocomp-flagged,
+    /// bias-hold, persistence, ar, highpass, persistence-gated, ar-gated.
     #[arg(long, value_delimiter = ',')]
-    pub models: Option<Vec<ModelKind>>,
+    pub models: Option<Vec<String>>,
     /// Protocol.
     #[arg(long, value_enum, default_value_t = Protocol::Paper)]
     pub protocol: Protocol,
-    /// Samples taken from the start of the recording.
+    /// Paper protocol: samples taken from the start of the recording.
     #[arg(long, default_value_t = 5000)]
     pub samples: usize,
     /// γ of the fixed-parameter `lssvm` model (default: the paper's 29.358).
@@ -44,22 +51,21 @@ pub struct EvalArgs {
     /// Seed of the stochastic models (BP-ANN initialisation, CPSO).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Configuration file (its `[denoise]` and `[embedding]` keys are used).
+    /// Configuration file (paper protocol: its `[denoise]` and `[embedding]` keys; motion
+    /// protocol: the whole pipeline configuration, `input.rate_hz` taken from the recording).
     #[arg(long)]
     pub config: Option<PathBuf>,
+    /// Motion protocol: start-up window of the bias-hold baseline, s (it also ends at the first
+    /// motion).
+    #[arg(long, default_value_t = 60.0)]
+    pub startup_s: f64,
+    /// Motion protocol: cutoff of the first-order high-pass baseline, Hz (1 mHz: time constant
+    /// 159 s, 2.6 times the longest turn of `gyrocomp motion`).
+    #[arg(long, default_value_t = 0.001)]
+    pub highpass_hz: f64,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
-}
-
-impl clap::ValueEnum for ModelKind {
-    fn value_variants<'a>() -> &'a [Self] {
-        &ModelKind::ALL
-    }
-
-    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        Some(clap::builder::PossibleValue::new(self.name()))
-    }
 }
 
 /// One row of the JSON output (field names as in the specification).
@@ -85,8 +91,17 @@ struct DataInfo {
     scale_max_dps: f64,
 }
 
+/// Parses the `--models` names for one protocol; `None` without `--models`.
+pub fn parse_models<T: FromStr<Err = String>>(names: Option<&[String]>) -> Result<Option<Vec<T>>, CliError> {
+    names.map(|names| names.iter().map(|n| n.parse::<T>().map_err(CliError::from)).collect()).transpose()
+}
+
 /// Runs `gyrocomp eval`.
 pub fn run(args: &EvalArgs) -> Result<(), CliError> {
+    if args.protocol == Protocol::Motion {
+        return super::eval_motion::run(args);
+    }
+    let kinds = parse_models::<ModelKind>(args.models.as_deref())?.unwrap_or_else(|| ModelKind::ALL.to_vec());
     let settings = load_config(args.config.as_deref())?;
     let series = load_series(&args.input, &args.column, None)?;
     let protocol = PaperProtocol {
@@ -103,7 +118,6 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         gamma: args.gam,
         sigma2: args.sig2,
     };
-    let kinds = args.models.clone().unwrap_or_else(|| ModelKind::ALL.to_vec());
     let mut rows = Vec::with_capacity(kinds.len());
     for kind in kinds {
         let run = run_model(kind, &data, &options).map_err(|e| format!("model `{kind}`: {e}"))?;

@@ -3,11 +3,14 @@
 
 pub mod allan;
 pub mod cc;
+pub mod compensate;
 pub mod demo;
 pub mod denoise;
 pub mod eval;
+pub mod eval_motion;
 pub mod input;
 pub mod motion;
+pub mod progress;
 pub mod sim;
 pub mod simgap;
 pub mod simgap_report;
@@ -45,8 +48,10 @@ pub enum Command {
     Cc(cc::CcArgs),
     /// Overlapping Allan deviation of a rate column and the IEEE Std 952 noise-term fit.
     Allan(allan::AllanArgs),
-    /// Evaluate the paper's models beside honest baselines (paper protocol).
+    /// Evaluate the models beside honest baselines (paper or motion-injected protocol).
     Eval(eval::EvalArgs),
+    /// Compensate a recording offline with the daemon's pipeline (CSV in, CSV out).
+    Compensate(compensate::CompensateArgs),
     /// Sim-to-real gap: where a simulation differs from a recording, which unmodelled effect
     /// explains it, how far the gap shrinks on a held-out part.
     Simgap(simgap::SimgapArgs),
@@ -62,6 +67,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Cc(args) => cc::run(&args),
         Command::Allan(args) => allan::run(&args),
         Command::Eval(args) => eval::run(&args),
+        Command::Compensate(args) => compensate::run(&args),
         Command::Simgap(args) => simgap::run(&args),
     }
 }

@@ -2,7 +2,7 @@
 //! `t_s,gx_dps,gy_dps,gz_dps,temp_c,gx_drift_dps,gy_drift_dps,gz_drift_dps` (the drift columns are
 //! the truth: every error term except white noise and quantisation).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::ValueEnum;
@@ -11,7 +11,7 @@ use tracing::info;
 
 use super::CliError;
 use crate::io::CsvColumnsWriter;
-use crate::sim::{AXIS_NAMES, Generator, Preset, SimConfig};
+use crate::sim::{AXIS_NAMES, Generator, Preset, SimConfig, SimOutput};
 
 /// The built-in presets (documented in `gyrocomp::sim::presets`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -99,6 +99,21 @@ pub fn effective_config(args: &SimArgs) -> Result<SimConfig, CliError> {
     Ok(config)
 }
 
+/// Writes a simulation as `gyrocomp sim` does: `t_s`, `gx_dps`, `gy_dps`, `gz_dps`, `temp_c`,
+/// then the true drift of each axis (`gx_drift_dps`, …).
+pub fn write_sim_csv(path: &Path, out: &SimOutput) -> Result<(), CliError> {
+    let mut header: Vec<String> = vec!["t_s".into()];
+    header.extend(AXIS_NAMES.iter().map(|a| format!("g{a}_dps")));
+    header.push("temp_c".into());
+    header.extend(AXIS_NAMES.iter().map(|a| format!("g{a}_drift_dps")));
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let [x, y, z] = &out.axes;
+    let columns: [&[f64]; 8] = [&out.t_s, &x.raw, &y.raw, &z.raw, &out.temp_c, &x.drift, &y.drift, &z.drift];
+    CsvColumnsWriter::create(path)
+        .and_then(|w| w.write(&header, &columns))
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()).into())
+}
+
 /// Runs `gyrocomp sim`.
 pub fn run(args: &SimArgs) -> Result<(), CliError> {
     let config = effective_config(args)?;
@@ -110,16 +125,7 @@ pub fn run(args: &SimArgs) -> Result<(), CliError> {
     let started = Instant::now();
     let out = Generator::generate(&config, seed)?;
     let path = args.output.as_ref().expect("clap requires --output without --print-config");
-    let mut header: Vec<String> = vec!["t_s".into()];
-    header.extend(AXIS_NAMES.iter().map(|a| format!("g{a}_dps")));
-    header.push("temp_c".into());
-    header.extend(AXIS_NAMES.iter().map(|a| format!("g{a}_drift_dps")));
-    let header: Vec<&str> = header.iter().map(String::as_str).collect();
-    let [x, y, z] = &out.axes;
-    let columns: [&[f64]; 8] = [&out.t_s, &x.raw, &y.raw, &z.raw, &out.temp_c, &x.drift, &y.drift, &z.drift];
-    CsvColumnsWriter::create(path)
-        .and_then(|w| w.write(&header, &columns))
-        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    write_sim_csv(path, &out)?;
     let summary = Summary {
         samples: out.len(),
         rate_hz: config.rate_hz,

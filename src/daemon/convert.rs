@@ -8,6 +8,32 @@ pub fn input_from_raw(raw: &RawSample) -> InputSample {
     InputSample { seq: raw.seq, t_ns: raw.t_ns, rate_dps: raw.rate_dps, temp_c: raw.temp_c, flags: raw.flags }
 }
 
+/// The raw wire sample of a pipeline input (what `replay` publishes for a recording's sample);
+/// the inverse of [`input_from_raw`].
+pub fn raw_from_input(input: &InputSample) -> RawSample {
+    RawSample {
+        seq: input.seq,
+        t_ns: input.t_ns,
+        rate_dps: input.rate_dps,
+        temp_c: input.temp_c,
+        flags: input.flags,
+        _pad: 0,
+    }
+}
+
+/// The pipeline output carried by a compensated wire sample (what `replay` writes); the inverse
+/// of [`comp_from_output`].
+pub fn output_from_comp(comp: &CompSample) -> OutputSample {
+    OutputSample {
+        seq: comp.seq,
+        t_ns: comp.t_ns,
+        rate_dps: comp.rate_dps,
+        drift_dps: comp.drift_dps,
+        model_version: comp.model_version,
+        status: comp.status,
+    }
+}
+
 /// The wire sample of a pipeline output (the status bits are the same on both sides).
 pub fn comp_from_output(out: &OutputSample) -> CompSample {
     CompSample {
@@ -62,6 +88,12 @@ pub fn status_sample(
         event: event as u32,
         _pad: 0,
         send_failures: counters.send_failures,
+        invalid: stats.input.invalid,
+        spikes: stats.input.spikes,
+        duplicates: stats.input.duplicates,
+        time_backwards: stats.input.time_backwards,
+        seq_skipped: stats.input.seq_skipped,
+        restarts: stats.input.restarts,
     }
 }
 
@@ -89,12 +121,19 @@ mod tests {
         let comp = comp_from_output(&out);
         assert_eq!((comp.seq, comp.t_ns, comp.model_version, comp.status, comp._pad), (7, 70, 4, 0b1010, 0));
         assert_eq!((comp.rate_dps, comp.drift_dps), ([0.5; 3], [0.1; 3]));
-        let stats = PipelineStats { retrain_skipped: 2, retrain_starved: 3, models_installed: 1, ..Default::default() };
+        assert_eq!(output_from_comp(&comp), out);
+        let back = raw_from_input(&input);
+        assert_eq!((back.seq, back.t_ns, back.rate_dps, back.flags, back._pad), (7, 70, [1.0, 2.0, 3.0], 1, 0));
+        assert_eq!(back.temp_c.to_bits(), raw.temp_c.to_bits());
+        let input = crate::stream::InputCounters { spikes: 6, seq_skipped: 2, ..Default::default() };
+        let stats =
+            PipelineStats { retrain_skipped: 2, retrain_starved: 3, models_installed: 1, input, ..Default::default() };
         let counters =
             LoopCounters { samples_in: 9, samples_out: 8, send_failures: 1, last_seq: 7, last_retrain_ns: 3 };
         let s = status_sample(StatusEvent::ModelSwapped, 5, &stats, 4, &counters);
         assert_eq!((s.retrains_skipped, s.retrains_done, s.model_version, s.samples_out), (5, 1, 4, 8));
         assert_eq!((s.last_seq, s.last_retrain_ns, s.send_failures), (7, 3, 1));
+        assert_eq!((s.spikes, s.seq_skipped, s.duplicates), (6, 2, 0));
         assert_eq!(StatusEvent::from_u32(s.event), Some(StatusEvent::ModelSwapped));
     }
 }

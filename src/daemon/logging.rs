@@ -9,7 +9,13 @@ use crate::config::{Config, ConfigError, LogFormat};
 pub fn init(config: &Config) -> Result<(), ConfigError> {
     let format = config.log_format()?;
     let filter = EnvFilter::try_new(&config.log.level).map_err(|e| ConfigError(format!("log.level: {e}")))?;
-    let builder = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_target(false);
+    // Colours only on a terminal: a file or the journal would get the escape codes as text.
+    let ansi = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let builder = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .with_target(false)
+        .with_ansi(ansi);
     let installed = match format {
         LogFormat::Text => builder.try_init(),
         LogFormat::Json => builder.json().try_init(),

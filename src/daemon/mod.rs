@@ -6,6 +6,7 @@
 //! - [`signals`]: SIGTERM/SIGINT (stop) and SIGHUP (reload) as atomic flags.
 //! - [`logging`]: the `[log]` section → a `tracing` subscriber.
 //! - [`reload`]: applying a reloaded configuration to a running pipeline.
+//! - [`state`]: the model snapshot file (atomic writes on a writer thread, loading at start).
 //! - [`run`]: start-up and the loop.
 
 pub mod convert;
@@ -13,6 +14,7 @@ pub mod logging;
 pub mod reload;
 pub mod run;
 pub mod signals;
+pub mod state;
 
 pub use run::{Daemon, DaemonError, RunSummary};
 pub use signals::Signals;

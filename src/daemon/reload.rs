@@ -36,13 +36,14 @@ pub fn apply(pipeline: &mut Pipeline, running: &Config, new: &Config) -> Result<
     r.min_samples = n.min_samples;
 
     let mut needs_restart = Vec::new();
-    let sections: [(&'static str, bool); 6] = [
+    let sections: [(&'static str, bool); 7] = [
         ("denoise", effective.denoise != new.denoise),
         ("embedding", effective.embedding != new.embedding),
         ("pipeline", effective.pipeline != new.pipeline),
         ("retrain (model keys)", effective.retrain != new.retrain),
         ("ipc", effective.ipc != new.ipc),
         ("log", effective.log != new.log),
+        ("state", effective.state != new.state),
     ];
     for (name, changed) in sections {
         if changed {

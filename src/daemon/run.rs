@@ -1,12 +1,16 @@
 //! Start-up and the daemon loop.
 //!
-//! Start-up: configuration → pipeline and retrainer → iceoryx2 node and ports (opened or
-//! created, so clients may start first) → a `Started` status. Loop: wait for raw samples (event
-//! or spin, `[ipc] wait`), answer each with exactly one `CompSample` of the same `seq`, publish a
-//! `Periodic` status every second and a `ModelSwapped`/`RetrainFailed` status when those
-//! counters move. Between samples, SIGHUP reloads the configuration ([`super::reload`]) and
-//! SIGTERM/SIGINT end the loop: the samples already waiting are answered, a `Stopping` status is
-//! published and [`Daemon::run`] returns.
+//! Start-up: configuration → pipeline and retrainer ([`build_pipeline`], shared with the offline
+//! driver), warm-started from the model snapshot of `[state] dir` when there is a compatible one
+//! ([`super::state`]) → iceoryx2 node (stale resources of dead nodes, e.g. a killed earlier
+//! daemon, are cleaned first) and ports (opened or created, so clients may start first) → a
+//! `Started` status. After each model swap the snapshot writer thread is handed the new models
+//! (never blocking the loop). Loop: wait for raw samples (event or spin, `[ipc] wait`), answer
+//! each with exactly one `CompSample` of the same `seq` (listeners woken once per burst), publish a
+//! `Periodic` status every second and a `ModelSwapped`/`RetrainFailed` status when those counters
+//! move. Between samples, SIGHUP reloads the configuration ([`super::reload`]) and SIGTERM/SIGINT
+//! end the loop: the samples already waiting are answered, a `Stopping` status is published and
+//! [`Daemon::run`] returns.
 //!
 //! IPC errors while running are logged (rate-limited) and counted, never fatal; only start-up
 //! failures (bad configuration, services that cannot be opened) end the daemon with an error.
@@ -17,11 +21,13 @@ use std::time::{Duration, Instant};
 use super::convert::{LoopCounters, comp_from_output, input_from_raw, status_sample};
 use super::reload;
 use super::signals::Signals;
+use super::state::{self, SNAPSHOT_FILE, SnapshotJob, SnapshotWriter};
 use crate::config::{Config, ConfigError, DomainChoice};
 use crate::stream::ipc::{
     CompPublisher, IpcDomain, IpcError, IpcNode, RawSample, RawSubscriber, StatusEvent, StatusPublisher,
 };
-use crate::stream::{Pipeline, PipelineError, Trainer};
+use crate::stream::snapshot::Compat;
+use crate::stream::{BuildError, Pipeline, PipelineError, build_pipeline};
 
 /// Longest single wait for a raw sample, so that signals are seen promptly.
 const POLL: Duration = Duration::from_millis(50);
@@ -29,6 +35,8 @@ const POLL: Duration = Duration::from_millis(50);
 const STATUS_PERIOD: Duration = Duration::from_secs(1);
 /// Node name of the daemon.
 const NODE_NAME: &str = "gyrocompd";
+/// Least time between two dead-node cleanups triggered by failed sends.
+const CLEANUP_PERIOD: Duration = Duration::from_secs(1);
 
 /// Why the daemon could not start.
 #[derive(Debug, thiserror::Error)]
@@ -50,9 +58,27 @@ pub enum DaemonError {
     /// The retrain thread could not be started.
     #[error("cannot start the retrain thread: {0}")]
     Trainer(std::io::Error),
+    /// The state directory could not be created or its writer thread started.
+    #[error("state directory {path}: {source}")]
+    State {
+        /// The directory.
+        path: PathBuf,
+        /// The reason.
+        source: std::io::Error,
+    },
     /// The iceoryx2 services or ports could not be opened.
     #[error(transparent)]
     Ipc(#[from] IpcError),
+}
+
+impl From<BuildError> for DaemonError {
+    fn from(e: BuildError) -> Self {
+        match e {
+            BuildError::Config(e) => Self::Config(e),
+            BuildError::Pipeline(e) => Self::Pipeline(e),
+            BuildError::Trainer(e) => Self::Trainer(e),
+        }
+    }
 }
 
 /// Totals at the end of a run.
@@ -66,6 +92,24 @@ pub struct RunSummary {
     pub send_failures: u64,
     /// Version of the model in use at the end (0 = none).
     pub model_version: u64,
+}
+
+/// Restores the snapshot at `path` into `pipeline` when there is a usable one; a missing,
+/// corrupt, truncated or incompatible snapshot is reported and the pipeline starts cold.
+fn warm_start(pipeline: &mut Pipeline, path: &Path) {
+    let file = path.display();
+    match state::read_snapshot(path) {
+        Ok(None) => tracing::info!(%file, "no model snapshot yet: starting without a model"),
+        Ok(Some(snapshot)) => match snapshot.restore_into(pipeline) {
+            Ok(()) => tracing::info!(
+                %file,
+                model_version = snapshot.model_version(),
+                "model snapshot loaded: compensating with it from the first sample"
+            ),
+            Err(e) => tracing::warn!(%file, error = %e, "model snapshot ignored; starting without a model"),
+        },
+        Err(e) => tracing::warn!(error = %e, "model snapshot ignored; starting without a model"),
+    }
 }
 
 /// Reads and validates a configuration file; `None` gives the built-in defaults.
@@ -86,6 +130,11 @@ pub struct Daemon {
 /// Everything the loop touches per sample.
 struct Worker {
     pipeline: Pipeline,
+    node: IpcNode,
+    /// The snapshot writer (`[state] dir` set) and the settings snapshots depend on.
+    snapshots: Option<SnapshotWriter>,
+    compat: Compat,
+    last_cleanup: Option<Instant>,
     comp: CompPublisher,
     status: StatusPublisher,
     counters: LoopCounters,
@@ -97,7 +146,14 @@ struct Worker {
     /// Retrain requests seen so far, and when the newest one was made.
     requests_seen: u64,
     request_at: Option<Instant>,
+    /// Answers sent since the last notification of the compensated event service.
+    unnotified: usize,
 }
+
+/// Answers sent quietly before the compensated listeners are woken, within one burst of raw
+/// samples: well below any subscriber buffer, so a client sleeping on the event service is woken
+/// long before a lossless publisher could wait for room in its buffer.
+const NOTIFY_BATCH: usize = 32;
 
 impl Daemon {
     /// A daemon with a validated configuration; `config_path` is re-read on SIGHUP.
@@ -112,22 +168,49 @@ impl Daemon {
             DomainChoice::Private { prefix, root } => IpcDomain::private(&prefix, &root)?,
         };
         let settings = self.config.ipc_settings()?;
-        let mut pipeline = Pipeline::new(self.config.pipeline()?)?;
-        pipeline.attach_trainer(Trainer::spawn(self.config.cpso_lssvm()?).map_err(DaemonError::Trainer)?);
+        let mut pipeline = build_pipeline(&self.config)?;
+        let compat = Compat::of(pipeline.config());
+        let snapshots = match self.config.state_dir()? {
+            Some(dir) => {
+                let state_err = |source| DaemonError::State { path: dir.clone(), source };
+                std::fs::create_dir_all(&dir).map_err(state_err)?;
+                let path = dir.join(SNAPSHOT_FILE);
+                warm_start(&mut pipeline, &path);
+                Some(SnapshotWriter::spawn(path).map_err(state_err)?)
+            }
+            None => None,
+        };
+        let stale = IpcNode::dead_nodes(&domain)?;
         let node = IpcNode::new(&domain, NODE_NAME, settings.clone())?;
+        let (cleaned, failed) = node.cleanup_dead_nodes();
+        let after = IpcNode::dead_nodes(&domain)?;
+        tracing::info!(
+            dead_before = stale.dead,
+            cleaned,
+            failed,
+            dead_after = after.dead,
+            inaccessible = after.inaccessible,
+            "stale iceoryx2 nodes cleaned"
+        );
         let raw = node.raw_subscriber()?;
+        let reported_version = pipeline.model_version();
         let mut worker = Worker {
             pipeline,
             comp: node.comp_publisher()?,
             status: node.status_publisher()?,
+            node,
+            snapshots,
+            compat,
+            last_cleanup: None,
             counters: LoopCounters::default(),
             started: Instant::now(),
             last_report: Instant::now(),
-            reported_version: 0,
+            reported_version,
             reported_failed: 0,
             status_errors: 0,
             requests_seen: 0,
             request_at: None,
+            unnotified: 0,
         };
         tracing::info!(
             raw = %settings.names.raw,
@@ -150,6 +233,7 @@ impl Daemon {
                 Ok(Some(sample)) => {
                     worker.handle(&sample);
                     worker.drain(&raw, settings.subscriber_buffer, &mut recv_errors);
+                    worker.notify();
                 }
                 Ok(None) => {}
                 Err(e) => {
@@ -165,6 +249,7 @@ impl Daemon {
         // Answer what has already arrived (at most one buffer: a client may still be sending).
         let before = worker.counters.samples_in;
         worker.drain(&raw, settings.subscriber_buffer, &mut recv_errors);
+        worker.notify();
         worker.report(StatusEvent::Stopping);
         let summary = RunSummary {
             samples_in: worker.counters.samples_in,
@@ -172,6 +257,8 @@ impl Daemon {
             send_failures: worker.counters.send_failures,
             model_version: worker.pipeline.model_version(),
         };
+        // Lets the writer finish the snapshot it may be writing.
+        drop(worker.snapshots.take());
         tracing::info!(drained = summary.samples_in - before, ?summary, "gyrocompd stopped");
         Ok(summary)
     }
@@ -208,18 +295,26 @@ impl Daemon {
 }
 
 impl Worker {
-    /// Compensates one raw sample and publishes its answer.
+    /// Compensates one raw sample and publishes its answer; the listeners are woken by
+    /// [`Worker::notify`] after the burst, or every [`NOTIFY_BATCH`] answers within it (one
+    /// notification per burst instead of one per sample: replay throughput).
     fn handle(&mut self, raw: &RawSample) {
         self.counters.samples_in += 1;
         self.counters.last_seq = raw.seq;
         let out = self.pipeline.process(&input_from_raw(raw));
-        match self.comp.send(comp_from_output(&out)) {
+        let sent = self.comp.send_quiet(comp_from_output(&out));
+        self.unnotified += 1;
+        if self.unnotified >= NOTIFY_BATCH {
+            self.notify();
+        }
+        match sent.map(|_| ()) {
             Ok(()) => self.counters.samples_out += 1,
             Err(e) => {
                 self.counters.send_failures += 1;
                 if self.counters.send_failures.is_power_of_two() {
                     tracing::warn!(seq = raw.seq, error = %e, count = self.counters.send_failures, "publishing a compensated sample failed");
                 }
+                self.cleanup_after_failure();
             }
         }
         // A model is installed (or a fit fails) before the sample it first serves; a request is
@@ -239,9 +334,23 @@ impl Worker {
         if swapped {
             self.reported_version = out.model_version;
             self.report(StatusEvent::ModelSwapped);
+            self.snapshot();
         } else if failed {
             self.reported_failed = stats.retrain_failed;
             self.report(StatusEvent::RetrainFailed);
+        }
+    }
+
+    /// Wakes the compensated listeners if answers were sent since the last time (and the
+    /// settings ask for notifications).
+    fn notify(&mut self) {
+        if self.unnotified == 0 || !self.comp.notifies() {
+            self.unnotified = 0;
+            return;
+        }
+        self.unnotified = 0;
+        if let Err(e) = self.comp.notify() {
+            tracing::debug!(error = %e, "notifying the compensated listeners failed");
         }
     }
 
@@ -262,8 +371,32 @@ impl Worker {
         }
     }
 
-    /// Publishes the periodic report when it is due.
+    /// Hands the installed models and copies of the pipeline buffers to the snapshot writer.
+    fn snapshot(&mut self) {
+        let Some(writer) = &mut self.snapshots else { return };
+        let p = &self.pipeline;
+        let models = [0, 1, 2].map(|axis| p.model_slot(axis).and_then(|slot| (*slot.load()).clone()));
+        writer.offer(SnapshotJob { compat: self.compat.clone(), models, warm: p.warm_state() });
+    }
+
+    /// A failed send may mean a client died with a full buffer: a lossless publisher then waits
+    /// for it on every sample. Cleaning dead nodes removes its ports (at most once a second).
+    fn cleanup_after_failure(&mut self) {
+        if self.last_cleanup.is_some_and(|t| t.elapsed() < CLEANUP_PERIOD) {
+            return;
+        }
+        self.last_cleanup = Some(Instant::now());
+        let (cleaned, failed) = self.node.cleanup_dead_nodes();
+        if cleaned + failed > 0 {
+            tracing::info!(cleaned, failed, "dead iceoryx2 nodes cleaned after a failed send");
+        }
+    }
+
+    /// Publishes the periodic report when it is due, and hands a waiting snapshot on.
     fn tick(&mut self) {
+        if let Some(writer) = &mut self.snapshots {
+            writer.flush();
+        }
         if self.last_report.elapsed() >= STATUS_PERIOD {
             self.report(StatusEvent::Periodic);
         }

@@ -1,7 +1,12 @@
 //! Evaluation protocols of design.md ("Evaluation protocols"): the paper's protocol, with every
-//! model scored beside the honest baselines on the same split.
+//! model scored beside the honest baselines on the same split, and the motion-injected protocol
+//! (compensated rate and integrated angle against a known injected motion).
 
 pub mod models;
+pub mod motion;
+pub mod motion_models;
 pub mod paper;
 
+pub use motion::{MotionRun, MotionScores};
+pub use motion_models::{BaselineSettings, MotionModel, run_motion_model};
 pub use paper::{PaperProtocol, PaperScores, Prepared};

@@ -75,11 +75,17 @@ impl FromStr for ModelKind {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL.into_iter().find(|k| k.name() == s).ok_or_else(|| {
-            let known: Vec<&str> = Self::ALL.iter().map(|k| k.name()).collect();
-            format!("unknown model `{s}`; known: {}", known.join(", "))
-        })
+        find_by_name(&Self::ALL, Self::name, s, "model")
     }
+}
+
+/// The entry of `all` called `s` by `name`, or an error naming `s` (an unknown `what`) and
+/// listing the known names.
+pub(crate) fn find_by_name<T: Copy>(all: &[T], name: fn(T) -> &'static str, s: &str, what: &str) -> Result<T, String> {
+    all.iter().copied().find(|&k| name(k) == s).ok_or_else(|| {
+        let known: Vec<&str> = all.iter().map(|&k| name(k)).collect();
+        format!("unknown {what} `{s}`; known: {}", known.join(", "))
+    })
 }
 
 /// Settings shared by the models of one evaluation.

@@ -21,6 +21,23 @@ use std::path::{Path, PathBuf};
 pub const TIME_COLUMN_NAMES: [&str; 3] = ["t_s", "t", "time"];
 /// Name of the optional temperature column.
 pub const TEMP_COLUMN: &str = "temp_c";
+/// Longest accepted line, bytes: a longer one (a binary file, a file without line ends) is an
+/// error instead of a buffer that grows with the file.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Reads one line (through `\n`) into `buf`, at most [`MAX_LINE_BYTES`] of it; `Err(None)` when
+/// the line is longer.
+fn read_line<B: BufRead>(reader: &mut B, buf: &mut Vec<u8>) -> Result<usize, Option<std::io::Error>> {
+    let read = reader.take(MAX_LINE_BYTES as u64 + 1).read_until(b'\n', buf).map_err(Some)?;
+    if buf.len() > MAX_LINE_BYTES && buf.last() != Some(&b'\n') {
+        return Err(None);
+    }
+    Ok(read)
+}
+
+fn too_long() -> CsvErrorKind {
+    CsvErrorKind::Malformed(format!("line longer than {MAX_LINE_BYTES} bytes (not a line-oriented text file?)"))
+}
 
 /// What went wrong while reading a CSV file.
 #[derive(Debug)]
@@ -56,6 +73,9 @@ pub enum CsvErrorKind {
     },
     /// The CSV structure itself is broken (e.g. invalid UTF-8 in the header, unequal quoting).
     Malformed(String),
+    /// A number that the reader of the file cannot use (e.g. a negative time, a flag that is not
+    /// 0 or 1); the message says what was expected.
+    Invalid(String),
 }
 
 impl fmt::Display for CsvErrorKind {
@@ -74,6 +94,7 @@ impl fmt::Display for CsvErrorKind {
                 write!(f, "time does not increase: {current} s follows {previous} s")
             }
             Self::Malformed(msg) => write!(f, "malformed CSV: {msg}"),
+            Self::Invalid(msg) => f.write_str(msg),
         }
     }
 }
@@ -159,6 +180,8 @@ pub struct SampleReader<R: Read> {
     previous_t: Option<f64>,
     rows: u64,
     options: ReadOptions,
+    /// Line number of the header.
+    header_line: u64,
 }
 
 impl SampleReader<File> {
@@ -187,7 +210,10 @@ impl<R: Read> SampleReader<R> {
         // The header is the first non-blank line.
         loop {
             line_buf.clear();
-            let read = reader.read_until(b'\n', &mut line_buf).map_err(|e| io_err(&path, None, e))?;
+            let read = read_line(&mut reader, &mut line_buf).map_err(|e| match e {
+                Some(e) => io_err(&path, None, e),
+                None => CsvError { path: path.clone(), line: Some(line_no + 1), field: None, kind: too_long() },
+            })?;
             if read == 0 {
                 return Err(CsvError { path, line: None, field: None, kind: CsvErrorKind::Empty });
             }
@@ -236,6 +262,7 @@ impl<R: Read> SampleReader<R> {
             temp_idx,
             previous_t: None,
             rows: 0,
+            header_line,
             options,
         })
     }
@@ -243,6 +270,16 @@ impl<R: Read> SampleReader<R> {
     /// Names of all columns in the header.
     pub fn header(&self) -> &[String] {
         &self.names
+    }
+
+    /// Name of the time column found in the header (one of [`TIME_COLUMN_NAMES`]).
+    pub fn time_column(&self) -> &str {
+        &self.time_name
+    }
+
+    /// The file's label in error messages.
+    pub fn path(&self) -> &Path {
+        &self.path
     }
 
     /// Whether the file has a `temp_c` column.
@@ -259,11 +296,11 @@ impl<R: Read> SampleReader<R> {
     pub fn next_row(&mut self) -> Result<Option<Row<'_>>, CsvError> {
         loop {
             self.line_buf.clear();
-            let read = self.reader.read_until(b'\n', &mut self.line_buf).map_err(|e| CsvError {
+            let read = read_line(&mut self.reader, &mut self.line_buf).map_err(|e| CsvError {
                 path: self.path.clone(),
                 line: Some(self.line_no + 1),
                 field: None,
-                kind: CsvErrorKind::Io(e),
+                kind: e.map_or_else(too_long, CsvErrorKind::Io),
             })?;
             if read == 0 {
                 return Ok(None);
@@ -437,7 +474,20 @@ impl Table {
 /// Fails on an empty file, a header without data rows, a missing column, a field that is not a
 /// finite number, or time that does not strictly increase.
 pub fn read_table(path: &Path, columns: &[&str], options: ReadOptions) -> Result<Table, CsvError> {
-    let mut reader = SampleReader::open(path, columns, options)?;
+    collect_table(SampleReader::open(path, columns, options)?, columns)
+}
+
+/// As [`read_table`], from any reader; `label` names it in error messages.
+pub fn read_table_from<R: Read>(
+    input: R,
+    label: &Path,
+    columns: &[&str],
+    options: ReadOptions,
+) -> Result<Table, CsvError> {
+    collect_table(SampleReader::from_reader(input, label, columns, options)?, columns)
+}
+
+fn collect_table<R: Read>(mut reader: SampleReader<R>, columns: &[&str]) -> Result<Table, CsvError> {
     let mut table = Table {
         names: columns.iter().map(|&c| c.to_owned()).collect(),
         columns: vec![Vec::new(); columns.len()],
@@ -454,7 +504,8 @@ pub fn read_table(path: &Path, columns: &[&str], options: ReadOptions) -> Result
         }
     }
     if table.is_empty() {
-        return Err(CsvError { path: path.to_path_buf(), line: None, field: None, kind: CsvErrorKind::NoData });
+        let (path, line) = (reader.path.clone(), reader.header_line);
+        return Err(CsvError { path, line: Some(line), field: None, kind: CsvErrorKind::NoData });
     }
     Ok(table)
 }

@@ -5,6 +5,16 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
+/// A buffered writer on the file `path`, created or truncated, or on standard output when `path`
+/// is `-`.
+pub fn create_output(path: &Path) -> io::Result<Box<dyn Write>> {
+    Ok(if path.as_os_str() == "-" {
+        Box::new(BufWriter::with_capacity(1 << 16, io::stdout().lock()))
+    } else {
+        Box::new(BufWriter::with_capacity(1 << 16, File::create(path)?))
+    })
+}
+
 /// Writes equal-length columns of `f64` as CSV to a file or to standard output (`-`).
 pub struct CsvColumnsWriter {
     out: Box<dyn Write>,
@@ -13,12 +23,7 @@ pub struct CsvColumnsWriter {
 impl CsvColumnsWriter {
     /// Creates `path` (or uses standard output when `path` is `-`).
     pub fn create(path: &Path) -> io::Result<Self> {
-        let out: Box<dyn Write> = if path.as_os_str() == "-" {
-            Box::new(BufWriter::with_capacity(1 << 16, io::stdout().lock()))
-        } else {
-            Box::new(BufWriter::with_capacity(1 << 16, File::create(path)?))
-        };
-        Ok(Self { out })
+        Ok(Self { out: create_output(path)? })
     }
 
     /// Writes the header and all rows; every column must be as long as the first.

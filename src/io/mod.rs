@@ -2,8 +2,12 @@
 //! conventions of design.md (header line, time column `t_s`/`t`/`time` in seconds, rate columns in
 //! deg/s, optional `temp_c`). Numerics never see a file: they receive slices.
 
+pub mod compensated_csv;
 pub mod csv_read;
 pub mod csv_write;
+pub mod recording;
 
-pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table};
-pub use csv_write::CsvColumnsWriter;
+pub use compensated_csv::{CompensatedCsvWriter, compensated_header};
+pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table, read_table_from};
+pub use csv_write::{CsvColumnsWriter, create_output};
+pub use recording::{Recording, RecordingError, t_ns_from_s};

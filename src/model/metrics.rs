@@ -84,6 +84,22 @@ pub fn std_dev(x: &[f64]) -> Option<f64> {
     Some((ss / (n - 1.0)).sqrt())
 }
 
+/// The `q`-quantile of `x` (0 ≤ q ≤ 1), interpolating linearly between order statistics: with
+/// the values sorted, position h = (n − 1)·q and `x[⌊h⌋] + (h − ⌊h⌋)·(x[⌊h⌋+1] − x[⌊h⌋])`
+/// (Hyndman & Fan 1996 type 7, numpy's default `np.quantile`). `None` for an empty slice, a NaN
+/// value or `q` outside [0, 1].
+pub fn quantile(x: &[f64], q: f64) -> Option<f64> {
+    if x.is_empty() || !(0.0..=1.0).contains(&q) || x.iter().any(|v| v.is_nan()) {
+        return None;
+    }
+    let mut sorted = x.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let h = (sorted.len() - 1) as f64 * q;
+    let lo = h.floor() as usize;
+    let hi = (lo + 1).min(sorted.len() - 1);
+    Some(sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo]))
+}
+
 /// Converts an error (MAE, RMSE, a standard deviation) from normalised units to original units:
 /// multiplies by the scaler's half-range. Not valid for ARE.
 pub fn error_to_units(error: f64, scaler: &MinMaxScaler) -> f64 {
@@ -117,6 +133,20 @@ mod tests {
         let x = [2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0];
         assert!((std_dev(&x).unwrap() - (32.0f64 / 7.0).sqrt()).abs() < 1e-15);
         assert_eq!(std_dev(&[1.0]), None);
+    }
+
+    #[test]
+    fn quantiles_interpolate_like_numpy() {
+        // np.quantile([3, 1, 4, 2], [0, 0.5, 0.95, 1]) = [1, 2.5, 3.85, 4]
+        let x = [3.0, 1.0, 4.0, 2.0];
+        assert_eq!(quantile(&x, 0.0), Some(1.0));
+        assert_eq!(quantile(&x, 0.5), Some(2.5));
+        assert!((quantile(&x, 0.95).unwrap() - 3.85).abs() < 1e-12);
+        assert_eq!(quantile(&x, 1.0), Some(4.0));
+        assert_eq!(quantile(&[7.0], 0.95), Some(7.0));
+        assert_eq!(quantile(&[], 0.5), None);
+        assert_eq!(quantile(&x, 1.5), None);
+        assert_eq!(quantile(&[1.0, f64::NAN], 0.5), None);
     }
 
     #[test]

@@ -11,6 +11,7 @@ pub mod lssvm;
 pub mod metrics;
 pub mod rng;
 pub mod scaler;
+pub mod snapshot;
 pub mod traits;
 
 pub use traits::{Fit, FitError, Predict, predict_from};

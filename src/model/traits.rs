@@ -8,14 +8,30 @@
 
 use std::fmt;
 
-/// A fitted one-step-ahead predictor.
+use super::snapshot::ModelState;
+
+/// A fitted predictor of the sample [`horizon`](Self::horizon) steps after its history
+/// (one step unless the model was fitted on direct multi-step targets).
 pub trait Predict {
     /// Samples of history one prediction reads (the most recent `history_len` of the slice).
     fn history_len(&self) -> usize;
 
-    /// Predicts the sample that follows `history` (oldest first). `history` holds at least
-    /// [`history_len`](Self::history_len) samples; only the last ones are read.
+    /// Predicts the sample `horizon()` steps after the end of `history` (oldest first; 1 = the
+    /// sample that follows it). `history` holds at least [`history_len`](Self::history_len)
+    /// samples; only the last ones are read.
     fn predict(&self, history: &[f64]) -> f64;
+
+    /// How many samples after the end of its history a prediction lies (1 by default).
+    fn horizon(&self) -> usize {
+        1
+    }
+
+    /// The fitted model as a storable [`ModelState`] (model snapshots), or `None` when this kind
+    /// of model cannot be stored (the default). Restoring the state must give a model whose
+    /// predictions are bit-identical.
+    fn state(&self) -> Option<ModelState> {
+        None
+    }
 }
 
 /// A model configuration that can be fitted to a training series.

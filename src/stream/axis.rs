@@ -7,6 +7,7 @@ use std::sync::Arc;
 use super::causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser};
 use super::model_slot::ModelSlot;
 use super::ring::RingBuffer;
+use super::snapshot::AxisWarm;
 
 /// One axis. Every buffer is allocated in [`AxisState::new`]; the per-sample methods allocate
 /// nothing.
@@ -17,7 +18,7 @@ pub(crate) struct AxisState {
     pub(crate) history: RingBuffer,
     /// Room for the normalised history a model reads plus the iterated predictions.
     scratch: Vec<f64>,
-    /// Iterated prediction steps: denoiser lag + 1.
+    /// Samples from the newest denoised value to the sample compensated: denoiser lag + 1.
     steps: usize,
     pub(crate) slot: Arc<ModelSlot>,
     bias: f64,
@@ -46,6 +47,42 @@ impl AxisState {
         })
     }
 
+    /// The forecast horizon every model must reach: denoiser lag + 1.
+    pub(crate) fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// The running static bias estimate (mean of recent accepted static raw samples); `None`
+    /// before the first.
+    pub(crate) fn bias(&self) -> Option<f64> {
+        (self.bias_count > 0).then_some(self.bias)
+    }
+
+    /// Copies of the buffers and running values a warm restart needs.
+    pub(crate) fn warm(&self) -> AxisWarm {
+        AxisWarm {
+            denoiser_window: self.denoiser.window_samples().to_vec(),
+            history: self.history.as_slice().to_vec(),
+            bias: self.bias,
+            bias_count: self.bias_count,
+            drift: self.drift,
+            comp: self.comp,
+        }
+    }
+
+    /// Restores what [`AxisState::warm`] copied (the newest samples that fit are kept).
+    pub(crate) fn restore(&mut self, warm: &AxisWarm) {
+        self.denoiser.prefill(&warm.denoiser_window);
+        self.history.clear();
+        for &x in &warm.history[warm.history.len().saturating_sub(self.history.capacity())..] {
+            self.history.push(x);
+        }
+        self.bias = warm.bias;
+        self.bias_count = warm.bias_count.min(self.bias_samples);
+        self.drift = warm.drift;
+        self.comp = warm.comp;
+    }
+
     /// Largest model history this axis can serve.
     pub(crate) fn max_model_history(&self) -> usize {
         self.history.capacity()
@@ -55,8 +92,9 @@ impl AxisState {
     /// model made it (`false`: the running bias estimate).
     ///
     /// With denoiser lag L the newest denoised value before sample t arrives is `x̃[t−1−L]`; the
-    /// one-step model (on normalised values, Eq. 21) is iterated L + 1 times on its own outputs
-    /// to reach `x̃[t]`. Falls back to the bias estimate when no model is installed, the static
+    /// model (on normalised values, Eq. 21) forecasts `x̃[t]` from it directly (a model fitted
+    /// with horizon L + 1, the retrainer's) or by iterating a one-step model L + 1 times (see
+    /// [`InstalledModel::predict_ahead`](super::model_slot::InstalledModel::predict_ahead)). Falls back to the bias estimate when no model is installed, the static
     /// history is shorter than the model needs, or the model returns a non-finite value.
     #[inline]
     pub(crate) fn forecast(&mut self) -> (f64, bool) {

@@ -6,6 +6,12 @@
 //! A larger lag moves the estimate away from the window's right edge, where the boundary
 //! extension biases it, at the price of `lag` samples of delay.
 //!
+//! Cost: the finest-level interior detail of the F samples ending at each new sample is computed
+//! once, when the sample arrives, and kept in a ring aligned with the samples; each push then reads
+//! those instead of recomputing the level-1 convolution over the window (bit-identical: the same
+//! products summed in the same order), computing only the boundary coefficients and the suffix
+//! the emitted sample needs ([`Denoiser::denoise_at_with`]).
+//!
 //! Warm-up: until the window is full the denoiser works on every sample seen so far; before
 //! there are enough samples for the configured level (`(F − 1)·2^level`, 56 for db4 at level 3)
 //! the estimate is the raw sample itself.
@@ -13,6 +19,7 @@
 use std::fmt;
 
 use super::ring::RingBuffer;
+use crate::wavelet::dwt::interior_detail;
 use crate::wavelet::{DenoiseConfig, Denoiser};
 
 /// Settings of the causal denoiser.
@@ -82,6 +89,9 @@ impl std::error::Error for CausalConfigError {}
 pub struct CausalDenoiser {
     config: CausalConfig,
     ring: RingBuffer,
+    /// `finest[i]`: the interior finest detail of the samples ending at `ring[i]` (NaN while
+    /// fewer than F samples have arrived; such entries are never read).
+    finest: RingBuffer,
     denoiser: Denoiser,
 }
 
@@ -91,6 +101,7 @@ impl CausalDenoiser {
         config.validate()?;
         Ok(Self {
             ring: RingBuffer::new(config.window),
+            finest: RingBuffer::new(config.window),
             denoiser: Denoiser::new(config.denoise.clone(), config.window),
             config,
         })
@@ -106,10 +117,35 @@ impl CausalDenoiser {
         self.ring.total_pushed()
     }
 
+    /// The raw samples in the window, oldest first (for a warm restart).
+    pub fn window_samples(&self) -> &[f64] {
+        self.ring.as_slice()
+    }
+
+    /// Refills the window with `samples` (oldest first, the last `window` kept) without emitting
+    /// anything: the state [`push`](Self::push) would have reached had they been pushed, minus
+    /// the outputs already consumed (a warm restart).
+    pub fn prefill(&mut self, samples: &[f64]) {
+        self.ring.clear();
+        self.finest.clear();
+        for &x in &samples[samples.len().saturating_sub(self.config.window)..] {
+            self.append(x);
+        }
+    }
+
+    /// Appends a raw sample and its interior finest detail (module documentation).
+    fn append(&mut self, x: f64) {
+        self.ring.push(x);
+        let window = self.ring.as_slice();
+        let hi = self.config.denoise.wavelet.dec_hi();
+        let d = if window.len() >= hi.len() { interior_detail(window, hi, window.len() - 1) } else { f64::NAN };
+        self.finest.push(d);
+    }
+
     /// Pushes raw sample `x[t]` and returns the estimate of `x[t − lag]`, or `None` during the
     /// first `lag` pushes.
     pub fn push(&mut self, x: f64) -> Option<f64> {
-        self.ring.push(x);
+        self.append(x);
         let held = self.ring.len();
         if held <= self.config.lag {
             return None;
@@ -131,7 +167,7 @@ impl CausalDenoiser {
         if window.len() < self.config.min_window() {
             return window[position];
         }
-        self.denoiser.denoise_at(window, position).0
+        self.denoiser.denoise_at_with(window, position, Some(self.finest.as_slice())).0
     }
 }
 
@@ -190,6 +226,45 @@ mod tests {
             assert_eq!(base[target], other[target], "target {target}");
         }
         assert_ne!(base[t_change - lag], other[t_change - lag]);
+    }
+
+    /// The cached finest details give the uncached single-position result bit for bit, through
+    /// warm-up, the first full window and many slides (both parities of the decimation).
+    #[test]
+    fn cached_details_are_bit_identical_to_recomputing() {
+        let x = series(700);
+        for (window, lag) in [(64, 0), (64, 5), (81, 3), (256, 5)] {
+            let c = config(window, lag);
+            let mut streaming = CausalDenoiser::new(c.clone()).unwrap();
+            let mut reference = Denoiser::new(c.denoise.clone(), window);
+            for (t, &v) in x.iter().enumerate() {
+                let Some(got) = streaming.push(v) else { continue };
+                let w = &x[(t + 1).saturating_sub(window)..=t];
+                let want = if w.len() < c.min_window() {
+                    w[w.len() - 1 - lag]
+                } else {
+                    reference.denoise_at(w, w.len() - 1 - lag).0
+                };
+                assert_eq!(got.to_bits(), want.to_bits(), "window {window} lag {lag} t {t}");
+            }
+        }
+    }
+
+    /// A denoiser prefilled with the last window of a series continues exactly like one that saw
+    /// the whole series (warm restart from a snapshot), finest-detail cache included.
+    #[test]
+    fn prefill_continues_bit_identically() {
+        let x = series(600);
+        let c = config(64, 5);
+        let mut whole = CausalDenoiser::new(c.clone()).unwrap();
+        for &v in &x[..400] {
+            whole.push(v);
+        }
+        let mut restarted = CausalDenoiser::new(c).unwrap();
+        restarted.prefill(&x[..400]);
+        for &v in &x[400..] {
+            assert_eq!(whole.push(v).map(f64::to_bits), restarted.push(v).map(f64::to_bits));
+        }
     }
 
     #[test]

@@ -4,6 +4,11 @@
 //! `[x_k, x_{k+τ}, …, x_{k+(m−1)τ}]` and its target is the next sample `x_{k+(m−1)τ+1}`:
 //! for τ = 10, m = 3 the first row is `[x_0, x_10, x_20] → x_21` (the paper's 1-based
 //! `[x_1, x_11, x_21] → x_22`). A series of n samples gives `n − (m−1)τ − 1` rows.
+//!
+//! A forecast horizon h ≥ 1 generalises the target to `x_{k+(m−1)τ+h}` (direct multi-step
+//! forecasting; h = 1 is the paper's Eq. 16) and gives `n − (m−1)τ − h` rows. The streaming
+//! pipeline uses h = denoiser lag + 1, so one model evaluation reaches the sample being
+//! compensated instead of iterating a one-step model h times.
 
 use serde::{Deserialize, Serialize};
 
@@ -14,6 +19,14 @@ pub struct Embedding {
     pub tau: usize,
     /// Embedding dimension m (≥ 1).
     pub dim: usize,
+    /// Forecast horizon h (≥ 1): the target lies h samples after the row's last element
+    /// (1 = the paper's one-step target, Eq. 16).
+    #[serde(default = "one_step")]
+    pub horizon: usize,
+}
+
+fn one_step() -> usize {
+    1
 }
 
 /// Embedded series: `rows` input vectors of length `dim` (row-major) and their targets.
@@ -23,7 +36,7 @@ pub struct Embedded {
     pub dim: usize,
     /// Input vectors, row-major, `rows × dim`.
     pub inputs: Vec<f64>,
-    /// One-step-ahead target of each row.
+    /// Target of each row (h samples after its last element).
     pub targets: Vec<f64>,
 }
 
@@ -41,7 +54,17 @@ impl Embedded {
 
 impl Embedding {
     /// The paper's choice (C-C method on its data): τ = 10, m = 3.
-    pub const PAPER: Self = Self { tau: 10, dim: 3 };
+    pub const PAPER: Self = Self::new(10, 3);
+
+    /// A one-step embedding (h = 1) with delay `tau` and dimension `dim`.
+    pub const fn new(tau: usize, dim: usize) -> Self {
+        Self { tau, dim, horizon: 1 }
+    }
+
+    /// The same delays with forecast horizon `horizon` (direct multi-step targets).
+    pub const fn with_horizon(self, horizon: usize) -> Self {
+        Self { horizon, ..self }
+    }
 
     /// Delay window τw = (m − 1)·τ (paper Eq. 17): the span of one input vector minus one.
     pub fn window(&self) -> usize {
@@ -53,24 +76,30 @@ impl Embedding {
         self.window() + 1
     }
 
-    /// Number of (input, target) rows a series of `n` samples gives: `n − τw − 1` (or 0).
+    /// Number of (input, target) rows a series of `n` samples gives: `n − τw − h` (or 0).
     pub fn rows(&self, n: usize) -> usize {
-        n.saturating_sub(self.history())
+        n.saturating_sub(self.window() + self.horizon)
     }
 
-    /// Embeds a whole series (Eq. 15–16).
+    /// Samples a series needs to give `rows` rows: `τw + h + rows` (inverse of [`Self::rows`]).
+    pub fn samples_for_rows(&self, rows: usize) -> usize {
+        self.window() + self.horizon + rows
+    }
+
+    /// Embeds a whole series (Eq. 15–16, target h samples ahead).
     pub fn embed(&self, x: &[f64]) -> Embedded {
-        assert!(self.tau >= 1 && self.dim >= 1, "τ and m must be at least 1");
+        assert!(self.tau >= 1 && self.dim >= 1 && self.horizon >= 1, "τ, m and h must be at least 1");
         let rows = self.rows(x.len());
         let mut inputs = Vec::with_capacity(rows * self.dim);
         for k in 0..rows {
             inputs.extend((0..self.dim).map(|j| x[k + j * self.tau]));
         }
-        let targets = x.get(self.history()..).map_or_else(Vec::new, <[f64]>::to_vec);
+        let first_target = self.window() + self.horizon;
+        let targets = x.get(first_target..).map_or_else(Vec::new, <[f64]>::to_vec);
         Embedded { dim: self.dim, inputs, targets }
     }
 
-    /// Fills `out` (length m) with the input vector that predicts the sample after the end of
+    /// Fills `out` (length m) with the input vector that predicts the sample h after the end of
     /// `history`: `[h_{n−1−τw}, …, h_{n−1−τ}, h_{n−1}]`. `history` needs at least τw + 1 samples.
     pub fn latest_into(&self, history: &[f64], out: &mut [f64]) {
         let n = history.len();
@@ -103,13 +132,24 @@ mod tests {
     #[test]
     fn latest_vector_predicts_the_next_sample() {
         let x: Vec<f64> = (0..50).map(|i| i as f64).collect();
-        let emb = Embedding { tau: 4, dim: 4 };
+        let emb = Embedding::new(4, 4);
         let all = emb.embed(&x);
         // The row whose target is x[49] is the latest vector of history x[..49].
         let mut v = vec![0.0; 4];
         emb.latest_into(&x[..49], &mut v);
         assert_eq!(v.as_slice(), all.row(all.rows() - 1));
         assert_eq!(*all.targets.last().unwrap(), 49.0);
+    }
+
+    #[test]
+    fn horizon_moves_the_target_and_drops_rows() {
+        let x: Vec<f64> = (0..30).map(|i| i as f64).collect();
+        let e = Embedding::PAPER.with_horizon(6).embed(&x);
+        assert_eq!(e.rows(), 30 - 20 - 6);
+        assert_eq!(e.row(0), &[0.0, 10.0, 20.0]);
+        assert_eq!(e.targets[0], 26.0);
+        assert_eq!(*e.targets.last().unwrap(), 29.0);
+        assert_eq!(e.row(e.rows() - 1), &[3.0, 13.0, 23.0]);
     }
 
     #[test]

@@ -1,24 +1,32 @@
 //! Per-sample building blocks of the streaming pipeline: a mirrored ring buffer, the causal
-//! wavelet denoiser, the phase-space embedding, the motion gate, the model slot, the [`Pipeline`]
-//! that chains them for three axes and its background [`Trainer`] — all pure numerics, no I/O —
-//! and, at the edge, [`ipc`]: the only module that knows iceoryx2.
+//! wavelet denoiser, the phase-space embedding, the input checks, the motion gate, the model
+//! slot, the [`Pipeline`] that chains them for three axes and its background [`Trainer`] — all pure numerics, no I/O —
+//! [`build_pipeline`], the construction every driver shares, [`offline`], the driver without
+//! IPC, and, at the edge, [`ipc`]: the only module that knows iceoryx2.
 
 mod axis;
+pub mod build;
 pub mod causal_denoise;
 pub mod embed;
+pub mod input_check;
 pub mod ipc;
 pub mod model_slot;
 pub mod motion_gate;
+pub mod offline;
 pub mod pipeline;
 pub mod retrain;
 pub mod ring;
 pub mod sample;
+pub mod snapshot;
 
+pub use build::{BuildError, build_pipeline};
 pub use causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser, denoise_causal};
 pub use embed::{Embedded, Embedding};
+pub use input_check::{InputCheck, InputConfig, InputCounters, Verdict};
 pub use model_slot::{InstalledModel, ModelSlot, SharedModel};
 pub use motion_gate::{MotionConfig, MotionGate};
-pub use pipeline::{InputConfig, Pipeline, PipelineConfig, PipelineError, PipelineStats};
+pub use offline::{OfflineRun, compensate, compensate_recording, offline_config, run_pipeline};
+pub use pipeline::{Pipeline, PipelineConfig, PipelineError, PipelineStats};
 pub use retrain::{FittedAxis, RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
 pub use ring::RingBuffer;
 pub use sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED};

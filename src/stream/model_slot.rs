@@ -19,7 +19,8 @@ pub type SharedModel = Arc<dyn Predict + Send + Sync>;
 /// (paper Eq. 21, "stored with the model", design.md) and its version.
 #[derive(Clone)]
 pub struct InstalledModel {
-    /// One-step-ahead predictor of the normalised denoised series.
+    /// Predictor of the normalised denoised series, one step ahead or directly
+    /// [`Predict::horizon`] steps ahead.
     pub model: SharedModel,
     /// The scaler fitted on the model's training window.
     pub scaler: MinMaxScaler,
@@ -38,13 +39,26 @@ impl std::fmt::Debug for InstalledModel {
 }
 
 impl InstalledModel {
-    /// Predicts `steps` (≥ 1) samples beyond the end of `history` (raw units) by iterating the
-    /// one-step model on its own outputs; `scratch` must hold at least
-    /// `model.history_len() + steps` values. Returns `None` when `history` is too short, the
-    /// scratch too small, or the model returns a non-finite value. Allocates nothing.
+    /// Predicts the sample `steps` (≥ 1) after the end of `history` (raw units). A model whose
+    /// [`Predict::horizon`] is `steps` (direct multi-step, the retrainer's models) is evaluated
+    /// once; a one-step model is iterated `steps` times on its own outputs. `scratch` must hold at
+    /// least `model.history_len() + steps` values. Returns `None` when `history` is too short, the
+    /// scratch too small, the model's horizon is neither 1 nor `steps`, or the model returns a
+    /// non-finite value. Allocates nothing.
     pub fn predict_ahead(&self, history: &[f64], steps: usize, scratch: &mut [f64]) -> Option<f64> {
         let h = self.model.history_len();
         if steps == 0 || history.len() < h || scratch.len() < h + steps {
+            return None;
+        }
+        let horizon = self.model.horizon();
+        if horizon == steps && horizon > 1 {
+            for (s, &v) in scratch.iter_mut().zip(&history[history.len() - h..]) {
+                *s = self.scaler.transform(v);
+            }
+            let out = self.scaler.inverse(self.model.predict(&scratch[..h]));
+            return out.is_finite().then_some(out);
+        }
+        if horizon != 1 {
             return None;
         }
         for (s, &v) in scratch.iter_mut().zip(&history[history.len() - h..]) {
@@ -121,5 +135,30 @@ mod tests {
         assert_eq!(m.predict_ahead(&[0.0, 3.0], 3, &mut scratch), Some(1.25));
         assert_eq!(m.predict_ahead(&[], 1, &mut scratch), None);
         assert_eq!(m.predict_ahead(&[3.0], 4, &mut scratch), None);
+    }
+
+    /// x̂[t+3] = x[t] + 3 in normalised units, fitted directly three steps ahead.
+    struct PlusThree;
+    impl Predict for PlusThree {
+        fn history_len(&self) -> usize {
+            1
+        }
+        fn predict(&self, history: &[f64]) -> f64 {
+            history[history.len() - 1] + 3.0
+        }
+        fn horizon(&self) -> usize {
+            3
+        }
+    }
+
+    #[test]
+    fn evaluates_a_direct_model_once_and_refuses_other_horizons() {
+        let scaler = MinMaxScaler { min: 0.0, max: 2.0 };
+        let m = InstalledModel { model: Arc::new(PlusThree), scaler, version: 1 };
+        let mut scratch = [0.0; 4];
+        // raw 1.5 → 0.5 (normalised) → 3.5 → raw 4.5; iterating would give 10.5 → raw 11.5.
+        assert_eq!(m.predict_ahead(&[1.5], 3, &mut scratch), Some(4.5));
+        assert_eq!(m.predict_ahead(&[1.5], 2, &mut scratch), None);
+        assert_eq!(m.predict_ahead(&[1.5], 1, &mut scratch), None);
     }
 }

@@ -2,8 +2,12 @@
 //! platform is moving, so that moving samples are neither model input nor training data.
 //!
 //! A sample is moving when the publisher sets [`FLAG_MOVING`](super::sample::FLAG_MOVING), when
-//! |rate| on any axis exceeds `rate_dps`, or when the variance of the last `window` accepted raw
-//! samples of any axis exceeds `variance_dps2`. The rate test reacts at once; the variance
+//! |rate − reference| on any axis exceeds `rate_dps`, or when the variance of the last `window`
+//! accepted raw samples of any axis exceeds `variance_dps2`. The reference is the pipeline's
+//! running static bias estimate, so the rate test looks at the rate net of the bias: a sensor with a bias of
+//! several deg/s (common for MEMS) is not "moving" for ever; before any static sample there is no
+//! reference and only the variance test applies. Both thresholds must sit above the sensor's
+//! static noise at its sample rate (a few σ per sample; the variance of a `window`-sample window). The rate test reacts at once; the variance
 //! window keeps the gate closed for up to `window` samples after a manoeuvre ends (a natural
 //! hold-off). The three axes are gated together: the platform moves as a whole.
 
@@ -49,12 +53,15 @@ impl MotionGate {
         }
     }
 
-    /// Adds an accepted (finite, in-range) sample and returns whether it is moving.
-    pub fn push(&mut self, rate_dps: &[f64; 3], flagged_moving: bool) -> bool {
+    /// Adds an accepted (finite, in-range) sample and returns whether it is moving; the rate
+    /// test compares `rate_dps − reference` (skipped without a reference).
+    pub fn push(&mut self, rate_dps: &[f64; 3], reference: Option<&[f64; 3]>, flagged_moving: bool) -> bool {
         let mut moving = flagged_moving;
-        for (ring, &r) in self.rings.iter_mut().zip(rate_dps) {
+        for (k, (ring, &r)) in self.rings.iter_mut().zip(rate_dps).enumerate() {
             ring.push(r);
-            moving |= r.abs() > self.config.rate_dps;
+            if let Some(reference) = reference {
+                moving |= (r - reference[k]).abs() > self.config.rate_dps;
+            }
             // The variance test needs a full window; before that only the rate test applies.
             if ring.is_full() && variance(ring.as_slice()) > self.config.variance_dps2 {
                 moving = true;
@@ -82,17 +89,31 @@ mod tests {
     #[test]
     fn flag_rate_and_variance_each_mark_motion() {
         let mut g = gate();
+        let zero = Some(&[0.0; 3]);
         for _ in 0..4 {
-            assert!(!g.push(&[0.1, 0.0, -0.1], false));
+            assert!(!g.push(&[0.1, 0.0, -0.1], zero, false));
         }
-        assert!(g.push(&[0.1, 0.0, -0.1], true));
-        assert!(g.push(&[0.1, 6.0, -0.1], false));
+        assert!(g.push(&[0.1, 0.0, -0.1], zero, true));
+        assert!(g.push(&[0.1, 6.0, -0.1], zero, false));
         // The 6.0 stays in the variance window for three more samples.
         for _ in 0..3 {
-            assert!(g.push(&[0.1, 0.0, -0.1], false));
+            assert!(g.push(&[0.1, 0.0, -0.1], zero, false));
         }
-        assert!(!g.push(&[0.1, 0.0, -0.1], false));
+        assert!(!g.push(&[0.1, 0.0, -0.1], zero, false));
         // A 2 deg/s step: below the rate threshold, above the variance threshold.
-        assert!(g.push(&[2.0, 0.0, 0.0], false));
+        assert!(g.push(&[2.0, 0.0, 0.0], zero, false));
+    }
+
+    #[test]
+    fn the_rate_test_is_relative_to_the_reference() {
+        let mut g = gate();
+        // A 20 deg/s bias is no motion once the reference (the drift estimate) has it …
+        for _ in 0..6 {
+            assert!(!g.push(&[20.0, 0.0, 0.0], Some(&[19.9, 0.0, 0.0]), false));
+        }
+        // … 6 deg/s above it is; without a reference only the variance test applies.
+        assert!(g.push(&[26.0, 0.0, 0.0], Some(&[20.0, 0.0, 0.0]), false));
+        let mut fresh = gate();
+        assert!(!fresh.push(&[20.0, 0.0, 0.0], None, false));
     }
 }

@@ -5,8 +5,9 @@
 //!
 //! Per sample t and axis (paper method: db4 denoising, PSR Eq. 15–16, scaler Eq. 21, LSSVM):
 //! - **Accepted static sample**: drift `d[t]` is the model's forecast of the denoised series at t
-//!   made from static denoised samples up to `x̃[t−1−L]` (L = denoiser lag), iterating the
-//!   one-step model L + 1 times (see [`InstalledModel::predict_ahead`](super::InstalledModel::predict_ahead)); before a model exists,
+//!   made from static denoised samples up to `x̃[t−1−L]` (L = denoiser lag): one evaluation of
+//!   a model fitted directly L + 1 steps ahead (the retrainer's, [`Config::cpso_lssvm`](crate::config::Config::cpso_lssvm)), or
+//!   L + 1 iterations of a one-step model (see [`InstalledModel::predict_ahead`](super::InstalledModel::predict_ahead)); before a model exists,
 //!   the running static bias estimate (status bit 0). Output = raw − `d[t]`. Then `x[t]` enters the
 //!   denoiser, the denoised history and the bias estimate. The output at t uses `x[t]` only
 //!   through "raw −": the drift estimate uses samples before t.
@@ -15,12 +16,16 @@
 //!   Holding is chosen over iterating the model further: an iterated LS-SVM drifts to its fixed
 //!   point within tens of steps, while the drift itself changes slowly. The sample enters no
 //!   denoiser, history or training buffer, so the static series is concatenated across motion.
-//! - **Rejected sample** (any axis NaN/Inf or |rate| > `input.range_dps`; status bit 2): enters no
-//!   buffer. Per axis, a finite in-range rate is output as raw − current drift; a bad one as the
-//!   last accepted compensated value (0 before any). Never NaN.
-//! - **Gap** (t_ns step above `gap_factor` nominal periods, or backwards; status bit 3): flagged
-//!   and counted; the buffers are kept, i.e. the static series is concatenated across the gap
-//!   like across motion (drift is slow; only PSR rows straddling the seam are affected).
+//! - **Rejected sample** (status bit 2; see [`InputCheck`] for the tests: duplicate `seq`, time
+//!   going backwards, NaN/Inf or |rate| > `input.range_dps` on any axis, robust spike test):
+//!   enters no buffer — not the denoiser, the model's history, the training window, the motion
+//!   gate or the spike estimates. The best safe output, per axis: a finite in-range rate minus the
+//!   current (held) drift, as for a moving sample; a bad rate is replaced by the last accepted
+//!   compensated value (0 before any). Never NaN.
+//! - **Gap** (skipped `seq`, t_ns step above `gap_factor` nominal periods, or backwards; status
+//!   bit 3): flagged and counted; the buffers are kept, i.e. the static series is concatenated
+//!   across the gap like across motion (drift is slow; only PSR rows straddling the seam are
+//!   affected).
 //!
 //! Retraining: see [`RetrainSchedule`]. Requests are made after sample index i when due, with
 //! snapshots of the training windows; in deterministic mode the result is installed right before
@@ -37,24 +42,13 @@ use std::time::Instant;
 use super::axis::AxisState;
 use super::causal_denoise::CausalConfig;
 use super::embed::Embedding;
+use super::input_check::{InputCheck, InputConfig, InputCounters};
 use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
 use super::motion_gate::{MotionConfig, MotionGate};
 use super::retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
-use super::sample::{
-    FLAG_MOVING, InputSample, OutputSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED,
-};
+use super::sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED};
+use super::snapshot::AxisWarm;
 use crate::model::scaler::MinMaxScaler;
-
-/// Input validation and gap detection (`[input]` in the configuration).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct InputConfig {
-    /// Largest accepted |rate|, deg/s (the sensor's range).
-    pub range_dps: f64,
-    /// Nominal sample period, ns.
-    pub period_ns: u64,
-    /// A t_ns step above `gap_factor · period_ns` is a gap.
-    pub gap_factor: f64,
-}
 
 /// Everything the pipeline needs (built from [`crate::config::Config::pipeline`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -78,12 +72,14 @@ pub struct PipelineConfig {
 pub struct PipelineStats {
     /// Samples processed.
     pub samples: u64,
-    /// Rejected samples (status bit 2).
+    /// Rejected samples (status bit 2), all causes.
     pub rejected: u64,
     /// Moving samples (status bit 1).
     pub moving: u64,
     /// Gaps detected (status bit 3).
     pub gaps: u64,
+    /// What the input checks found, by cause.
+    pub input: InputCounters,
     /// Retrain requests sent.
     pub retrain_requests: u64,
     /// Retrain requests skipped because the previous one was still running.
@@ -103,6 +99,13 @@ pub enum PipelineError {
     Config(String),
     /// Axis index not in 0..3.
     NoSuchAxis(usize),
+    /// The model forecasts neither one step nor the pipeline's L + 1 steps ahead.
+    HorizonMismatch {
+        /// The model's horizon.
+        model: usize,
+        /// The pipeline's horizon (denoiser lag + 1).
+        pipeline: usize,
+    },
     /// The model needs more history than the pipeline keeps.
     HistoryTooLong {
         /// Samples the model reads.
@@ -117,6 +120,10 @@ impl fmt::Display for PipelineError {
         match self {
             Self::Config(m) => f.write_str(m),
             Self::NoSuchAxis(a) => write!(f, "axis {a} does not exist (0, 1, 2)"),
+            Self::HorizonMismatch { model, pipeline } => write!(
+                f,
+                "model forecasts {model} samples ahead; the pipeline needs 1 (iterated) or {pipeline} (denoise.lag + 1)"
+            ),
             Self::HistoryTooLong { need, kept } => {
                 write!(f, "model reads {need} samples of history, the pipeline keeps {kept}")
             }
@@ -138,7 +145,7 @@ pub struct Pipeline {
     config: PipelineConfig,
     axes: [AxisState; 3],
     gate: MotionGate,
-    prev_t_ns: Option<u64>,
+    check: InputCheck,
     /// Samples since the last accepted static sample (0 while static).
     horizon: u64,
     next_version: u64,
@@ -160,9 +167,9 @@ impl Pipeline {
         let axes = [axis()?, axis()?, axis()?];
         Ok(Self {
             gate: MotionGate::new(config.motion),
+            check: InputCheck::new(config.input),
             axes,
             config,
-            prev_t_ns: None,
             horizon: 0,
             next_version: 1,
             stats: PipelineStats::default(),
@@ -183,6 +190,7 @@ impl Pipeline {
     /// configuration); buffers, models and counters are kept (see [`MotionGate::reconfigure`]).
     pub fn update_thresholds(&mut self, motion: MotionConfig, input: InputConfig) {
         self.gate.reconfigure(motion);
+        self.check.reconfigure(input);
         self.config.motion = motion;
         self.config.input = input;
     }
@@ -211,10 +219,12 @@ impl Pipeline {
 
     /// Counters.
     pub fn stats(&self) -> PipelineStats {
-        self.stats
+        let input = self.check.counters();
+        PipelineStats { input, gaps: input.gaps, ..self.stats }
     }
 
-    /// Forecast horizon: samples since the last accepted static sample (0 while static).
+    /// Forecast horizon: samples (moving or rejected) since the last accepted static sample
+    /// (0 while static).
     pub fn horizon(&self) -> u64 {
         self.horizon
     }
@@ -242,8 +252,30 @@ impl Pipeline {
         if need > kept {
             return Err(PipelineError::HistoryTooLong { need, kept });
         }
+        let (horizon, steps) = (model.horizon(), a.steps());
+        if horizon != 1 && horizon != steps {
+            return Err(PipelineError::HorizonMismatch { model: horizon, pipeline: steps });
+        }
         a.slot.install(InstalledModel { model, scaler, version });
         self.next_version = self.next_version.max(version + 1);
+        Ok(())
+    }
+
+    /// Copies of each axis' buffers (denoiser window, static history) and running values (bias
+    /// estimate, held drift), for a snapshot: see [`crate::stream::snapshot`].
+    pub fn warm_state(&self) -> [AxisWarm; 3] {
+        self.axes.each_ref().map(AxisState::warm)
+    }
+
+    /// Restores what [`Pipeline::warm_state`] copied (models are installed separately with
+    /// [`Pipeline::install_model`]); refused, with nothing changed, when a value is not finite.
+    pub fn restore_warm_state(&mut self, warm: &[AxisWarm; 3]) -> Result<(), PipelineError> {
+        if let Some(axis) = warm.iter().position(|w| !w.is_finite()) {
+            return Err(PipelineError::Config(format!("warm state of axis {axis} holds a non-finite value")));
+        }
+        for (a, w) in self.axes.iter_mut().zip(warm) {
+            a.restore(w);
+        }
         Ok(())
     }
 
@@ -271,31 +303,24 @@ impl Pipeline {
     }
 
     fn compensate(&mut self, input: &InputSample) -> OutputSample {
-        let mut status = 0;
-        if let Some(prev) = self.prev_t_ns {
-            let limit = self.config.input.gap_factor * self.config.input.period_ns as f64;
-            if input.t_ns <= prev || (input.t_ns - prev) as f64 > limit {
-                status |= STATUS_GAP;
-                self.stats.gaps += 1;
-            }
-        }
-        self.prev_t_ns = Some(input.t_ns);
-        let range = self.config.input.range_dps;
-        let good = |r: f64| r.is_finite() && r.abs() <= range;
+        let publisher_moving = input.flags & FLAG_MOVING != 0;
+        let verdict = self.check.check(input.seq, input.t_ns, &input.rate_dps, publisher_moving);
+        let mut status = verdict.status;
         let mut rate = [0.0; 3];
         let mut drift = [0.0; 3];
-        if !input.rate_dps.iter().all(|&r| good(r)) {
+        if verdict.rejected() {
             status |= STATUS_REJECTED;
             self.stats.rejected += 1;
+            self.horizon += 1;
             for (k, a) in self.axes.iter().enumerate() {
                 let r = input.rate_dps[k];
                 drift[k] = a.drift;
-                rate[k] = if good(r) { r - a.drift } else { a.comp };
+                rate[k] = if self.check.in_range(r) { r - a.drift } else { a.comp };
                 if a.slot.load().is_none() {
                     status |= STATUS_NO_MODEL;
                 }
             }
-        } else if self.gate.push(&input.rate_dps, input.flags & FLAG_MOVING != 0) {
+        } else if self.gate.push(&input.rate_dps, self.gate_reference().as_ref(), publisher_moving) {
             status |= STATUS_MOVING;
             self.stats.moving += 1;
             self.horizon += 1;
@@ -321,6 +346,7 @@ impl Pipeline {
                 rate[k] = a.comp;
                 a.push_static(r);
             }
+            self.check.accept_static(&input.rate_dps);
         }
         OutputSample {
             seq: input.seq,
@@ -330,6 +356,13 @@ impl Pipeline {
             model_version: self.model_version(),
             status,
         }
+    }
+
+    /// The motion gate's rate reference: each axis' running static bias estimate, once a static
+    /// sample was accepted (before, there is none).
+    fn gate_reference(&self) -> Option<[f64; 3]> {
+        let [x, y, z] = &self.axes;
+        Some([x.bias()?, y.bias()?, z.bias()?])
     }
 
     /// Applies a finished retrain: deterministic mode at exactly `request + apply_delay`
@@ -479,9 +512,12 @@ mod tests {
         assert_eq!(before.status & STATUS_MOVING, 0);
         let mut motion = p.config().motion;
         motion.rate_dps = 0.4;
-        p.update_thresholds(motion, p.config().input);
-        let after = p.process(&sample(31, 0.5));
-        assert!(after.status & STATUS_MOVING != 0);
+        // Constant input: any step is a spike to the robust test; switch it off to see the gate.
+        let input = InputConfig { spike_z: 0.0, ..p.config().input };
+        p.update_thresholds(motion, input);
+        // 0.5 above the running bias of 0.5: moving at the new threshold, not at the default.
+        let after = p.process(&sample(31, 1.0));
+        assert!(after.status & STATUS_MOVING != 0, "{after:?}");
         // The drift estimate (state) survived the change.
         assert_eq!(after.drift_dps, before.drift_dps);
         assert_eq!(p.stats().samples, 32);

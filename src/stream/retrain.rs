@@ -18,6 +18,7 @@ use crossbeam_channel::{Receiver, Sender, TryRecvError, bounded};
 
 use super::model_slot::SharedModel;
 use crate::model::Fit;
+use crate::model::baselines::MeanModel;
 use crate::model::scaler::MinMaxScaler;
 
 /// When retraining is requested and when its result is applied.
@@ -77,15 +78,39 @@ pub struct TrainResult {
 }
 
 /// Fits the scaler and the model of one axis (paper Eq. 21, then `fit` on normalised data).
+///
+/// A constant window — an axis the recording does not have (0.0 throughout) or a stuck sensor —
+/// gets the constant predictor instead ([`MeanModel`] of the normalised window, which maps back
+/// to the constant): nothing can be fitted on a constant series (an AR design is singular), and
+/// holding the constant is its exact forecast. Without this, one constant axis would fail the
+/// fits of all three.
 pub fn fit_axis<F>(fit: &F, window: &[f64]) -> Result<FittedAxis, String>
 where
     F: Fit,
     F::Model: Send + Sync + 'static,
 {
     let scaler = MinMaxScaler::fit(window).ok_or("training window is empty or holds a non-finite value")?;
+    if scaler.min == scaler.max {
+        return Ok(FittedAxis { model: Arc::new(MeanModel { mean: 0.0 }), scaler });
+    }
     let scaled: Vec<f64> = window.iter().map(|&v| scaler.transform(v)).collect();
     let model = fit.fit(&scaled).map_err(|e| e.to_string())?;
     Ok(FittedAxis { model: Arc::new(model), scaler })
+}
+
+/// Raises the calling thread's nice value by `nice` (Linux: `setpriority(PRIO_PROCESS, 0, …)`
+/// acts on the calling thread only).
+fn lower_priority(nice: i32) {
+    #[cfg(target_os = "linux")]
+    {
+        // SAFETY: setpriority takes plain integers and has no memory effects.
+        let rc = unsafe { libc::setpriority(libc::PRIO_PROCESS, 0, nice) };
+        if rc != 0 {
+            tracing::warn!(nice, error = %std::io::Error::last_os_error(), "could not lower the retrain thread's priority");
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    tracing::debug!(nice, "thread priorities are only lowered on Linux");
 }
 
 /// Handle of the trainer thread; dropping it closes the request channel and joins the thread.
@@ -105,8 +130,21 @@ pub enum TrainerError {
 }
 
 impl Trainer {
-    /// Starts the trainer thread with a fitting configuration.
+    /// Starts the trainer thread with a fitting configuration, at the scheduling priority of
+    /// the caller.
     pub fn spawn<F>(fit: F) -> std::io::Result<Self>
+    where
+        F: Fit + Send + 'static,
+        F::Model: Send + Sync + 'static,
+    {
+        Self::spawn_niced(fit, 0)
+    }
+
+    /// [`Trainer::spawn`] with the trainer thread's nice value raised by `nice` (0 … 19; Linux
+    /// keeps nice per thread, and the CPSO worker threads it starts inherit it), so that a fit
+    /// yields the CPU to the sample loop. Elsewhere, or if the call fails, the thread keeps the
+    /// caller's priority (logged).
+    pub fn spawn_niced<F>(fit: F, nice: i32) -> std::io::Result<Self>
     where
         F: Fit + Send + 'static,
         F::Model: Send + Sync + 'static,
@@ -114,6 +152,9 @@ impl Trainer {
         let (req_tx, req_rx) = bounded::<TrainRequest>(1);
         let (res_tx, res_rx) = bounded::<TrainResult>(1);
         let thread = std::thread::Builder::new().name("gyrocomp-retrain".into()).spawn(move || {
+            if nice > 0 {
+                lower_priority(nice);
+            }
             for req in req_rx {
                 let started = std::time::Instant::now();
                 let fits: Result<Vec<FittedAxis>, String> = req
@@ -179,5 +220,23 @@ impl Drop for Trainer {
 impl std::fmt::Debug for Trainer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Trainer").field("running", &self.thread.is_some()).finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::baselines::Ar;
+
+    #[test]
+    fn a_constant_window_gets_the_constant_and_others_the_model() {
+        // AR cannot be fitted on a constant series; the axis still gets a model.
+        let constant = fit_axis(&Ar::aic(3), &[0.25; 100]).unwrap();
+        assert_eq!(constant.scaler.inverse(constant.model.predict(&[0.0; 4])), 0.25);
+        assert_eq!(constant.model.history_len(), 0);
+        let varying: Vec<f64> = (0..100).map(|i| (i as f64 * 0.3).sin() + 0.01 * (i % 7) as f64).collect();
+        let fitted = fit_axis(&Ar::aic(3), &varying).unwrap();
+        assert!((1..=3).contains(&fitted.model.history_len()));
+        assert!(fit_axis(&Ar::aic(3), &[0.0, f64::NAN, 1.0]).is_err());
     }
 }

@@ -40,28 +40,57 @@ fn reflect(i: isize, n: usize) -> usize {
     if r < n { r } else { 2 * n - 1 - r }
 }
 
-/// Forward coefficients `(cA[o], cD[o])` of one output position `o` (the body of [`dwt_into`]).
-#[inline]
-pub(crate) fn dwt_point(x: &[f64], lo: &[f64], hi: &[f64], o: usize) -> (f64, f64) {
-    let (n, f) = (x.len(), lo.len());
+/// Calls `visit(j, x[2o + 1 − j])` for every tap `j < f` of output position `o`, reflecting
+/// indices outside the signal (the convolution of [`dwt_point`]).
+#[inline(always)]
+fn for_each_tap(x: &[f64], f: usize, o: usize, mut visit: impl FnMut(usize, f64)) {
+    let n = x.len();
     let i = 2 * o + 1;
-    let (mut a, mut d) = (0.0, 0.0);
     if i >= f - 1 && i < n {
         // Interior: every tap lands inside the signal.
         let window = &x[i + 1 - f..=i];
         for j in 0..f {
-            let v = window[f - 1 - j];
-            a += lo[j] * v;
-            d += hi[j] * v;
+            visit(j, window[f - 1 - j]);
         }
     } else {
         for j in 0..f {
-            let v = x[reflect(i as isize - j as isize, n)];
-            a += lo[j] * v;
-            d += hi[j] * v;
+            visit(j, x[reflect(i as isize - j as isize, n)]);
         }
     }
+}
+
+/// Forward coefficients `(cA[o], cD[o])` of one output position `o` (the body of [`dwt_into`]).
+#[inline]
+pub(crate) fn dwt_point(x: &[f64], lo: &[f64], hi: &[f64], o: usize) -> (f64, f64) {
+    let (mut a, mut d) = (0.0, 0.0);
+    for_each_tap(x, lo.len(), o, |j, v| {
+        a += lo[j] * v;
+        d += hi[j] * v;
+    });
     (a, d)
+}
+
+/// The detail coefficient `cD[o]` alone, bit-identical to [`dwt_point`]'s second value.
+#[inline]
+pub(crate) fn dwt_detail_point(x: &[f64], hi: &[f64], o: usize) -> f64 {
+    let mut d = 0.0;
+    for_each_tap(x, hi.len(), o, |j, v| d += hi[j] * v);
+    d
+}
+
+/// The interior detail `Σ_j hi[j]·x[last − j]` of the `hi.len()` samples ending at `x[last]`
+/// (needs `last ≥ hi.len() − 1`): bit-identical to [`dwt_point`]'s detail at any position whose
+/// taps end on that sample, so a streaming caller can compute it once per sample and reuse it
+/// while the window slides.
+#[inline]
+pub fn interior_detail(x: &[f64], hi: &[f64], last: usize) -> f64 {
+    let f = hi.len();
+    let window = &x[last + 1 - f..=last];
+    let mut d = 0.0;
+    for j in 0..f {
+        d += hi[j] * window[f - 1 - j];
+    }
+    d
 }
 
 /// One forward step: fills `ca` (low-pass) and `cd` (high-pass), each `dwt_len(x.len(), F)` long.

@@ -9,6 +9,18 @@ use gyrocomp::eval::{PaperProtocol, Prepared};
 use gyrocomp::io::{ReadOptions, read_table};
 use serde_json::Value;
 
+/// A `[retrain]` section that keeps CLI tests quick: a 600-sample window, a request every 1000
+/// samples applied 50 samples later, and a small CPSO. Other `[retrain]` keys may follow it.
+pub const QUICK_RETRAIN: &str = "[retrain]
+window = 600
+min_samples = 300
+every_samples = 1000
+apply_delay_samples = 50
+cpso_candidates = 6
+cpso_particles = 3
+cpso_iterations = 2
+";
+
 /// Parses `tests/goldens/NAME`.
 pub fn golden(name: &str) -> Value {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/goldens").join(name);

@@ -51,10 +51,10 @@ impl LinearPsrModel {
 
 /// Checks τ ≥ 1 and m ≥ 1 (shared with the BP-ANN).
 pub(crate) fn check_embedding(e: Embedding) -> Result<(), FitError> {
-    if e.tau == 0 || e.dim == 0 {
+    if e.tau == 0 || e.dim == 0 || e.horizon == 0 {
         return Err(FitError::InvalidConfig(format!(
-            "embedding needs τ ≥ 1 and m ≥ 1, got τ = {}, m = {}",
-            e.tau, e.dim
+            "embedding needs τ ≥ 1, m ≥ 1 and h ≥ 1, got τ = {}, m = {}, h = {}",
+            e.tau, e.dim, e.horizon
         )));
     }
     Ok(())
@@ -67,7 +67,7 @@ impl Fit for LinearPsr {
     fn fit(&self, train: &[f64]) -> Result<LinearPsrModel, FitError> {
         let e = self.embedding;
         check_embedding(e)?;
-        check_series(train, e.history() + e.dim + 2)?;
+        check_series(train, e.samples_for_rows(e.dim + 2))?;
         let rows = e.embed(train);
         let d = DMatrix::from_fn(rows.rows(), e.dim + 1, |r, c| if c == 0 { 1.0 } else { rows.row(r)[c - 1] });
         let beta = QrFit::new(d, DVector::from_vec(rows.targets)).coefficients(e.dim + 1)?;
@@ -86,6 +86,10 @@ impl Predict for LinearPsrModel {
         let tau = self.embedding.tau;
         self.weights.iter().enumerate().fold(self.intercept, |acc, (j, w)| acc + w * history[first + j * tau])
     }
+
+    fn horizon(&self) -> usize {
+        self.embedding.horizon
+    }
 }
 
 #[cfg(test)]
@@ -94,7 +98,7 @@ mod tests {
 
     #[test]
     fn bad_config() {
-        let bad = LinearPsr { embedding: Embedding { tau: 0, dim: 3 } };
+        let bad = LinearPsr { embedding: Embedding::new(0, 3) };
         assert!(matches!(bad.fit(&[0.0; 100]), Err(FitError::InvalidConfig(_))));
         assert_eq!(LinearPsr::default().fit(&[0.0; 25]), Err(FitError::TooFewSamples { need: 26, have: 25 }));
         assert!(matches!(LinearPsr::default().fit(&[0.0; 26]), Err(FitError::Numerical(_))));

@@ -40,6 +40,11 @@ impl Predict for MeanModel {
     fn predict(&self, _history: &[f64]) -> f64 {
         self.mean
     }
+
+    /// Stored as a constant forecast (model snapshots).
+    fn state(&self) -> Option<crate::model::snapshot::ModelState> {
+        Some(crate::model::snapshot::ModelState::Constant { value: self.mean })
+    }
 }
 
 #[cfg(test)]

@@ -287,7 +287,7 @@ impl Fit for BpAnn {
     fn fit(&self, train: &[f64]) -> Result<BpAnnModel, FitError> {
         self.validate()?;
         let e = self.embedding;
-        check_series(train, e.history() + self.min_rows(e.dim))?;
+        check_series(train, e.samples_for_rows(self.min_rows(e.dim)))?;
         let rows = e.embed(train);
         let (net, report) = self.fit_rows(e.dim, &rows.inputs, &rows.targets)?;
         Ok(BpAnnModel { embedding: e, net, report })
@@ -304,6 +304,10 @@ impl Predict for BpAnnModel {
         let first = history.len() - 1 - self.embedding.window();
         let tau = self.embedding.tau;
         self.net.layout.forward(&self.net.params, |j| history[first + j * tau])
+    }
+
+    fn horizon(&self) -> usize {
+        self.embedding.horizon
     }
 }
 

@@ -6,14 +6,17 @@
 //! weights. Both predict through [`KernelExpansion`], reading the PSR input vector (Eq. 15)
 //! straight out of the history, so `predict` allocates nothing.
 
+use serde::{Deserialize, Serialize};
+
 use super::exact::solve_exact;
 use super::kernel::sq_dist;
 use super::validate::check_hyper;
+use crate::model::baselines::linear_psr::check_embedding;
 use crate::model::{Fit, FitError, Predict};
 use crate::stream::embed::{Embedded, Embedding};
 
 /// A kernel expansion `f(x) = Σ_i coef_i · exp(−‖x − centre_i‖² / σ²) + bias`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct KernelExpansion {
     /// Input dimension.
     pub dim: usize,
@@ -77,7 +80,7 @@ impl KernelExpansion {
 }
 
 /// A fitted one-step-ahead LS-SVM predictor on PSR rows (exact or fixed-size).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LssvmModel {
     /// The PSR embedding its inputs are read with (Eq. 15–16).
     pub embedding: Embedding,
@@ -96,6 +99,10 @@ impl Predict for LssvmModel {
             return f64::NAN;
         }
         self.expansion.eval_lagged(history, &self.embedding)
+    }
+
+    fn horizon(&self) -> usize {
+        self.embedding.horizon
     }
 }
 
@@ -121,14 +128,9 @@ impl Default for LssvmConfig {
 
 /// Checks the embedding and the series and embeds it: at least `min_rows` rows.
 pub(crate) fn embed_series(embedding: &Embedding, train: &[f64], min_rows: usize) -> Result<Embedded, FitError> {
-    if embedding.tau == 0 || embedding.dim == 0 {
-        return Err(FitError::InvalidConfig(format!(
-            "embedding needs tau >= 1 and dim >= 1, got tau = {}, dim = {}",
-            embedding.tau, embedding.dim
-        )));
-    }
+    check_embedding(*embedding)?;
     if embedding.rows(train.len()) < min_rows {
-        return Err(FitError::TooFewSamples { need: embedding.history() + min_rows, have: train.len() });
+        return Err(FitError::TooFewSamples { need: embedding.samples_for_rows(min_rows), have: train.len() });
     }
     if train.iter().any(|v| !v.is_finite()) {
         return Err(FitError::NonFinite);
@@ -164,7 +166,7 @@ mod tests {
     #[test]
     fn predicts_from_history_like_the_embedded_rows() {
         let x: Vec<f64> = (0..80).map(|i| (i as f64 * 0.3).sin()).collect();
-        let cfg = LssvmConfig { gamma: 100.0, sigma2: 1.0, embedding: Embedding { tau: 2, dim: 3 } };
+        let cfg = LssvmConfig { gamma: 100.0, sigma2: 1.0, embedding: Embedding::new(2, 3) };
         let m = cfg.fit(&x[..60]).unwrap();
         let e = cfg.embedding.embed(&x);
         let via_rows = m.expansion.eval_rows(&e.inputs);
@@ -177,10 +179,10 @@ mod tests {
     fn bad_configs_and_series_are_errors() {
         let x = vec![0.1; 30];
         let bad = |c: LssvmConfig| c.fit(&x).is_err();
-        let e = Embedding { tau: 2, dim: 3 };
+        let e = Embedding::new(2, 3);
         assert!(bad(LssvmConfig { gamma: -1.0, sigma2: 1.0, embedding: e }));
         assert!(bad(LssvmConfig { gamma: 1.0, sigma2: 0.0, embedding: e }));
-        assert!(bad(LssvmConfig { gamma: 1.0, sigma2: 1.0, embedding: Embedding { tau: 0, dim: 3 } }));
+        assert!(bad(LssvmConfig { gamma: 1.0, sigma2: 1.0, embedding: Embedding::new(0, 3) }));
         assert_eq!(
             LssvmConfig { gamma: 1.0, sigma2: 1.0, embedding: e }.fit(&x[..5]),
             Err(FitError::TooFewSamples { need: 6, have: 5 })

@@ -17,6 +17,7 @@ use super::model::{KernelExpansion, LssvmModel, embed_series};
 use super::nystrom::{DEFAULT_RANK_TOL, NystromProblem};
 use super::prototypes::{PrototypeSelection, select_prototypes};
 use crate::model::cpso::{CpsoConfig, CpsoHistory, minimize};
+use crate::model::snapshot::{ModelState, TunedLssvm};
 use crate::model::{Fit, FitError, Predict};
 use crate::stream::embed::Embedding;
 
@@ -39,7 +40,7 @@ pub enum Fitness {
 }
 
 /// Which LS-SVM solves the problem.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Solver {
     /// Exact dual solve (Eq. 7).
     Exact,
@@ -120,6 +121,15 @@ impl Predict for CpsoLssvmModel {
     fn predict(&self, history: &[f64]) -> f64 {
         self.model.predict(history)
     }
+
+    fn horizon(&self) -> usize {
+        self.model.horizon()
+    }
+
+    /// The final model with its γ and solver (the search trace is not kept).
+    fn state(&self) -> Option<ModelState> {
+        Some(ModelState::Lssvm(TunedLssvm { model: self.model.clone(), gamma: self.gamma, solver: self.solver }))
+    }
 }
 
 fn rmse(r: impl Iterator<Item = f64>) -> f64 {
@@ -195,8 +205,8 @@ impl CpsoLssvm {
             // The smallest row count that leaves two rows to fit (fraction < 1 bounds the search).
             let rows = (3..100_000).find(|&m| self.fitted_rows(m) >= 2).unwrap_or(3);
             return Err(FitError::TooFewSamples {
-                need: self.embedding.history() + rows,
-                have: self.embedding.history() + n,
+                need: self.embedding.samples_for_rows(rows),
+                have: self.embedding.samples_for_rows(n),
             });
         }
         Ok(n_fit)

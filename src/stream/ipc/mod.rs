@@ -24,7 +24,7 @@ pub use domain::IpcDomain;
 pub use echo::run_echo;
 pub use error::{IpcError, IpcResult};
 pub use node::{
-    CompPublisher, CompSubscriber, IpcNode, RawPublisher, RawSubscriber, StatusPublisher, StatusSubscriber,
+    CompPublisher, CompSubscriber, IpcNode, NodeCensus, RawPublisher, RawSubscriber, StatusPublisher, StatusSubscriber,
 };
 pub use receiver::Receiver;
 pub use sender::Sender;

@@ -1,7 +1,7 @@
 //! An iceoryx2 node in a domain, and the gyrocomp ports it creates.
 
-use iceoryx2::node::{Node, NodeBuilder};
-use iceoryx2::prelude::{NodeName, SignalHandlingMode, ipc};
+use iceoryx2::node::{Node, NodeBuilder, NodeState};
+use iceoryx2::prelude::{CallbackProgression, NodeName, SignalHandlingMode, ipc};
 
 use super::domain::IpcDomain;
 use super::error::{IpcError, IpcResult};
@@ -23,6 +23,19 @@ pub type RawPublisher = Sender<RawSample>;
 pub type CompSubscriber = Receiver<CompSample>;
 /// Client side: model events and counters in.
 pub type StatusSubscriber = Receiver<StatusSample>;
+
+/// How many nodes of a domain are in each state ([`IpcNode::dead_nodes`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NodeCensus {
+    /// Nodes whose process is alive.
+    pub alive: usize,
+    /// Nodes whose process died without cleaning up.
+    pub dead: usize,
+    /// Nodes this process may not inspect.
+    pub inaccessible: usize,
+    /// Nodes with missing or inconsistent files.
+    pub undefined: usize,
+}
 
 /// An iceoryx2 node plus the settings of the ports it creates.
 ///
@@ -47,6 +60,33 @@ impl IpcNode {
             .map_err(|e| IpcError::iox("create node", name, e))?;
         tracing::debug!(node = name, prefix = %domain.prefix(), root = %domain.root_path(), "iceoryx2 node created");
         Ok(Self { node, settings })
+    }
+
+    /// Nodes of `domain` whose process died without cleaning up (iceoryx2's dead-node
+    /// detection: the node's monitor lock is no longer held), and nodes whose state this process
+    /// may not inspect (another user's).
+    pub fn dead_nodes(domain: &IpcDomain) -> IpcResult<NodeCensus> {
+        let mut census = NodeCensus::default();
+        Node::<ipc::Service>::list(domain.config(), |state| {
+            match state {
+                NodeState::Alive(_) => census.alive += 1,
+                NodeState::Dead(_) => census.dead += 1,
+                NodeState::Inaccessible(_) => census.inaccessible += 1,
+                NodeState::Undefined(_) => census.undefined += 1,
+            }
+            CallbackProgression::Continue
+        })
+        .map_err(|e| IpcError::iox("list nodes", domain.prefix(), e))?;
+        Ok(census)
+    }
+
+    /// Removes the stale resources of every dead node of the domain (iceoryx2
+    /// `Node::try_cleanup_dead_nodes`: their shared memory, and their ports from every service,
+    /// so that lossless publishers stop waiting for their subscribers). Returns (cleaned,
+    /// failed); a node of another user fails for want of permission.
+    pub fn cleanup_dead_nodes(&self) -> (u64, u64) {
+        let state = self.node.try_cleanup_dead_nodes();
+        (state.cleanups, state.failed_cleanups)
     }
 
     /// The settings ports are created with.

@@ -64,6 +64,11 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Sender<T> {
         sample.write_payload(value).send().map_err(|e| IpcError::iox("send sample", &self.name, e))
     }
 
+    /// Whether [`Sender::send`] notifies after each sample (the settings' `notify`).
+    pub fn notifies(&self) -> bool {
+        self.notify_each
+    }
+
     /// Wakes the listeners of the event service.
     pub fn notify(&self) -> IpcResult<()> {
         self.notifier.notify().map(|_| ()).map_err(|e| IpcError::iox("notify", &self.name, e))

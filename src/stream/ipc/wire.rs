@@ -121,7 +121,7 @@ impl StatusEvent {
     }
 }
 
-/// Model events and counters, on the `gyrocomp/status` service (112 bytes).
+/// Model events and counters, on the `gyrocomp/status` service (160 bytes).
 /// Counters are totals since the daemon started.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[type_name("gyrocomp::StatusSample")]
@@ -137,7 +137,7 @@ pub struct StatusSample {
     pub rejected: u64,
     /// Samples treated as moving (answered with [`STATUS_MOVING`]).
     pub moving: u64,
-    /// Gaps detected in the raw `seq` sequence (answers flagged [`STATUS_GAP`]).
+    /// Gaps detected: skipped `seq`, timestamp jumps or steps back (answers flagged [`STATUS_GAP`]).
     pub gaps: u64,
     /// Retrains that produced a new model.
     pub retrains_done: u64,
@@ -157,6 +157,18 @@ pub struct StatusSample {
     pub _pad: u32,
     /// Publisher-side send failures (e.g. a lossless subscriber that never drained).
     pub send_failures: u64,
+    /// Rejected for a NaN, infinite or out-of-range rate (part of `rejected`).
+    pub invalid: u64,
+    /// Rejected as spikes by the robust outlier test (part of `rejected`).
+    pub spikes: u64,
+    /// Rejected for a repeated or decreasing `seq` (part of `rejected`).
+    pub duplicates: u64,
+    /// Rejected for a timestamp that did not advance (part of `rejected`, also gaps).
+    pub time_backwards: u64,
+    /// Sequence numbers missing between received samples (sum of the holes).
+    pub seq_skipped: u64,
+    /// Publisher restarts seen (`seq` back to 0 or far back: a new stream).
+    pub restarts: u64,
 }
 
 // Layout checks: the byte counts are part of the wire contract (design.md).
@@ -165,6 +177,6 @@ const _: () = {
     assert!(align_of::<RawSample>() == 8);
     assert!(size_of::<CompSample>() == 80);
     assert!(align_of::<CompSample>() == 8);
-    assert!(size_of::<StatusSample>() == 112);
+    assert!(size_of::<StatusSample>() == 160);
     assert!(align_of::<StatusSample>() == 8);
 };

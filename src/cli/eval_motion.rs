@@ -1,0 +1,121 @@
+//! `gyrocomp eval IN --protocol motion`: the motion-injected protocol ([`crate::eval::motion`]) on
+//! a file made by `gyrocomp motion` — the rate column (recording + profile), `truth_dps` (the
+//! profile) and `moving` (1 inside a motion). Every model ([`crate::eval::motion_models`]) runs on
+//! the same stream; the table or JSON gives the compensated-rate RMSE and the angle errors.
+//!
+//! The gyrocomp pipeline gets the rate column only: its motion gate works from thresholds, as in
+//! the daemon. The `moving` column defines the scored segments, and is given to the pipeline
+//! only in the clearly named `gyrocomp-flagged` row (an oracle). `input.rate_hz` of the
+//! configuration is set to the recording's rate (it only decides which steps are flagged as gaps).
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::CliError;
+use super::eval::{EvalArgs, parse_models};
+use super::input::load_config;
+use super::progress::Progress;
+use crate::eval::motion::MotionScores;
+use crate::eval::{BaselineSettings, MotionModel, MotionRun, run_motion_model};
+use crate::io::{ReadOptions, Recording, read_table};
+
+/// Column of the injected truth written by `gyrocomp motion`.
+pub const TRUTH_COLUMN: &str = "truth_dps";
+/// Column of the moving flags written by `gyrocomp motion`.
+pub const MOVING_COLUMN: &str = "moving";
+
+/// What the evaluation ran on.
+#[derive(Debug, Serialize)]
+struct DataInfo {
+    input: String,
+    column: String,
+    samples: usize,
+    rate_hz: f64,
+    segments: usize,
+    moving_samples: usize,
+    startup_s: f64,
+    highpass_hz: f64,
+}
+
+/// One row of the JSON output.
+#[derive(Debug, Serialize)]
+struct ModelRow {
+    name: MotionModel,
+    #[serde(flatten)]
+    scores: MotionScores,
+    detail: String,
+    seconds: f64,
+}
+
+/// Runs the motion-injected protocol.
+pub fn run(args: &EvalArgs) -> Result<(), CliError> {
+    let kinds = parse_models::<MotionModel>(args.models.as_deref())?.unwrap_or_else(|| MotionModel::ALL.to_vec());
+    let mut config = load_config(args.config.as_deref())?;
+    // Finite rates and truth, with line-exact errors; the flags checked to be 0/1 the same way.
+    let mut table = read_table(&args.input, &[&args.column, TRUTH_COLUMN], ReadOptions::default())?;
+    let mut rec = Recording::load(&args.input, &[&args.column], Some(MOVING_COLUMN))?;
+    let moving = rec.take_moving().unwrap_or_default();
+    let truth = table.columns.pop().unwrap_or_default();
+    let raw = table.columns.pop().unwrap_or_default();
+    let run = MotionRun::new(table.t_s, raw, truth, &moving)?;
+    config.input.rate_hz = run.rate_hz();
+    config.validate().map_err(|e| format!("{}: input.rate_hz from the recording: {e}", args.input.display()))?;
+    let inputs: Vec<_> = rec.inputs().collect();
+    let baselines = BaselineSettings { startup_s: args.startup_s, highpass_hz: args.highpass_hz };
+
+    let mut rows = Vec::with_capacity(kinds.len());
+    for kind in kinds {
+        let started = Instant::now();
+        let mut bar = Progress::new(kind.name(), if kind.uses_pipeline() { run.len() as u64 } else { 0 });
+        let out = run_motion_model(kind, &config, &run, &inputs, &moving, baselines, &mut |i| bar.set(i as u64))
+            .map_err(|e| format!("model `{kind}`: {e}"))?;
+        bar.finish();
+        let scores = run.score(&out.compensated)?;
+        rows.push(ModelRow { name: kind, scores, detail: out.detail, seconds: started.elapsed().as_secs_f64() });
+    }
+    let info = DataInfo {
+        input: args.input.display().to_string(),
+        column: args.column.clone(),
+        samples: run.len(),
+        rate_hz: run.rate_hz(),
+        segments: run.segments().len(),
+        moving_samples: run.moving_samples(),
+        startup_s: args.startup_s,
+        highpass_hz: args.highpass_hz,
+    };
+    if args.json {
+        println!("{}", serde_json::json!({ "protocol": "motion", "data": info, "models": rows }));
+    } else {
+        print_table(&info, &rows);
+    }
+    Ok(())
+}
+
+fn print_table(info: &DataInfo, rows: &[ModelRow]) {
+    println!(
+        "Motion-injected protocol: {} samples of `{}` at {:.4} Hz, {} motion segments ({} moving samples)",
+        info.samples, info.column, info.rate_hz, info.segments, info.moving_samples
+    );
+    println!("Angle error = |∫(compensated − truth)dt| per motion segment (median, p95, max) and over the run.");
+    println!();
+    println!(
+        "{:<18} {:>13} {:>12} {:>12} {:>12} {:>12} {:>8}  detail",
+        "model", "RMSE dps", "median deg", "p95 deg", "max deg", "run deg", "s"
+    );
+    let opt = |v: Option<f64>| v.map_or_else(|| "—".to_owned(), |v| format!("{v:.4}"));
+    for r in rows {
+        let s = &r.scores;
+        println!(
+            "{:<18} {:>13.4e} {:>12} {:>12} {:>12} {:>12.4} {:>8.1}  {}",
+            r.name.name(),
+            s.rate_rmse_dps,
+            opt(s.angle_err_deg_median),
+            opt(s.angle_err_deg_p95),
+            opt(s.angle_err_deg_max),
+            s.angle_err_deg_run,
+            r.seconds,
+            r.detail
+        );
+    }
+}

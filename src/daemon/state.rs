@@ -1,0 +1,179 @@
+//! The daemon's state directory (`[state] dir`): the model snapshot file, written after each
+//! successful retrain by a writer thread and read once at start.
+//!
+//! Writing is atomic: the bytes go to a temporary file in the same directory, which is synced
+//! and renamed over the snapshot, and the directory is synced; a crash at any moment leaves
+//! either the old or the new snapshot, never a mix. The sample loop only hands the writer
+//! thread a job (shared model handles and copies of the pipeline buffers) through a bounded
+//! channel without blocking; encoding and disk I/O happen on the writer thread.
+
+use std::fs::File;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+use crossbeam_channel::{Sender, TrySendError, bounded};
+
+use crate::stream::InstalledModel;
+use crate::stream::snapshot::{AxisWarm, Compat, Snapshot, SnapshotError};
+
+/// File name of the snapshot inside the state directory.
+pub const SNAPSHOT_FILE: &str = "gyrocompd.snapshot";
+/// File name of the temporary file a snapshot is written to before the rename.
+pub const TEMP_FILE: &str = "gyrocompd.snapshot.tmp";
+
+/// Why a snapshot file could not be read or used.
+#[derive(Debug, thiserror::Error)]
+pub enum StateError {
+    /// The file exists but could not be read.
+    #[error("cannot read {path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The reason.
+        source: std::io::Error,
+    },
+    /// The content is corrupt, truncated, of another format or incompatible.
+    #[error("{path}: {source}")]
+    Snapshot {
+        /// The file.
+        path: PathBuf,
+        /// The reason.
+        source: SnapshotError,
+    },
+}
+
+/// Writes `bytes` to `path` atomically: temporary file in the same directory, `fsync`, rename,
+/// `fsync` of the directory.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let tmp = dir.join(TEMP_FILE);
+    let mut file = File::create(&tmp)?;
+    file.write_all(bytes)?;
+    file.sync_all()?;
+    drop(file);
+    std::fs::rename(&tmp, path)?;
+    File::open(dir)?.sync_all()
+}
+
+/// Reads and decodes the snapshot at `path`: `Ok(None)` when there is none. The compatibility
+/// with the running configuration is checked when it is restored
+/// ([`Snapshot::restore_into`]).
+pub fn read_snapshot(path: &Path) -> Result<Option<Snapshot>, StateError> {
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(source) => return Err(StateError::Read { path: path.into(), source }),
+    };
+    Snapshot::decode(&bytes).map(Some).map_err(|source| StateError::Snapshot { path: path.into(), source })
+}
+
+/// What the sample loop hands the writer: shared model handles and copies of the buffers.
+pub struct SnapshotJob {
+    /// Settings the snapshot depends on.
+    pub compat: Compat,
+    /// The installed model of each axis.
+    pub models: [Option<Arc<InstalledModel>>; 3],
+    /// The warm state of each axis.
+    pub warm: [AxisWarm; 3],
+}
+
+/// The writer thread; dropping it lets the thread finish the queued job and joins it.
+pub struct SnapshotWriter {
+    jobs: Option<Sender<SnapshotJob>>,
+    thread: Option<JoinHandle<()>>,
+    /// A job the channel had no room for (the newest wins); offered again by [`Self::flush`].
+    unsent: Option<SnapshotJob>,
+}
+
+impl SnapshotWriter {
+    /// Starts the writer thread for the snapshot file `path`.
+    pub fn spawn(path: PathBuf) -> std::io::Result<Self> {
+        let (tx, rx) = bounded::<SnapshotJob>(1);
+        let thread = std::thread::Builder::new().name("gyrocomp-snapshot".into()).spawn(move || {
+            for job in rx {
+                write_job(&path, job);
+            }
+        })?;
+        Ok(Self { jobs: Some(tx), thread: Some(thread), unsent: None })
+    }
+
+    /// Queues `job` without blocking; while the thread is busy with an earlier one the newest
+    /// job waits here (replacing an older waiting one) until [`Self::flush`].
+    pub fn offer(&mut self, job: SnapshotJob) {
+        self.unsent = Some(job);
+        self.flush();
+    }
+
+    /// Hands a waiting job to the thread if it has room now (never blocks).
+    pub fn flush(&mut self) {
+        let (Some(tx), Some(job)) = (&self.jobs, self.unsent.take()) else { return };
+        match tx.try_send(job) {
+            Ok(()) => {}
+            Err(TrySendError::Full(job)) => self.unsent = Some(job),
+            Err(TrySendError::Disconnected(_)) => {
+                tracing::error!("snapshot writer thread stopped; no more snapshots are written");
+                self.jobs = None;
+            }
+        }
+    }
+}
+
+impl Drop for SnapshotWriter {
+    fn drop(&mut self) {
+        if let (Some(tx), Some(job)) = (&self.jobs, self.unsent.take()) {
+            let _ = tx.send(job);
+        }
+        self.jobs.take();
+        if let Some(t) = self.thread.take()
+            && t.join().is_err()
+        {
+            tracing::error!("snapshot writer thread panicked");
+        }
+    }
+}
+
+fn write_job(path: &Path, job: SnapshotJob) {
+    let started = std::time::Instant::now();
+    let snapshot = match Snapshot::capture(job.compat, job.models, job.warm) {
+        Ok(s) => s,
+        Err(e) => {
+            tracing::warn!(file = %path.display(), error = %e, "snapshot not written");
+            return;
+        }
+    };
+    let written = snapshot
+        .encode()
+        .map_err(|e| e.to_string())
+        .and_then(|bytes| write_atomic(path, &bytes).map(|()| bytes.len()).map_err(|e| e.to_string()));
+    match written {
+        Ok(bytes) => tracing::info!(
+            file = %path.display(),
+            model_version = snapshot.model_version(),
+            bytes,
+            seconds = started.elapsed().as_secs_f64(),
+            "snapshot written"
+        ),
+        Err(e) => tracing::warn!(file = %path.display(), error = %e, "writing the snapshot failed"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn atomic_write_replaces_the_file_and_leaves_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(SNAPSHOT_FILE);
+        write_atomic(&path, b"first").unwrap();
+        write_atomic(&path, b"second").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"second");
+        assert!(!dir.path().join(TEMP_FILE).exists());
+        assert!(read_snapshot(&dir.path().join("none")).unwrap().is_none());
+        let err = read_snapshot(&path).unwrap_err();
+        assert!(matches!(err, StateError::Snapshot { source: SnapshotError::BadMagic, .. }), "{err}");
+        assert!(err.to_string().contains(SNAPSHOT_FILE), "{err}");
+    }
+}

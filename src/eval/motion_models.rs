@@ -1,0 +1,208 @@
+//! The models of the motion-injected protocol ([`super::motion`]), each producing one
+//! compensated value per sample of the same stream.
+//!
+//! Every drift predictor runs through the streaming [`Pipeline`] on the same samples, with the
+//! configuration's denoiser, retrain schedule and start-up bias estimate, retraining
+//! deterministically ([`offline_config`]); they differ in the model and in the motion gate:
+//!
+//! | name | model | motion gate |
+//! |---|---|---|
+//! | `gyrocomp` | CPSO-LSSVM ([`build_pipeline`], the daemon's) | `[motion]` thresholds on the rate |
+//! | `gyrocomp-flagged` | CPSO-LSSVM | the same, plus the file's `moving` column as the publisher's flag (an oracle: it says what the gate has to guess) |
+//! | `persistence` | x̃[t] = the newest denoised sample | none: it sees the whole stream |
+//! | `ar` | AR(p), order by AIC ≤ 20, refitted on the retrain schedule | none |
+//! | `persistence-gated`, `ar-gated` | the same models | `[motion]`, as gyrocomp (what the gate alone is worth) |
+//!
+//! `persistence` and `ar` are one-step predictors of the drift run causally on the stream as it
+//! comes: nothing tells them when the platform moves, so a rotation enters their input like
+//! drift — exactly their weakness, and what the gate is for. Persistence needs no fit: it is
+//! installed before the first sample (until the causal denoiser's first output, the pipeline's
+//! running bias estimate stands in, as it does for every model before its first fit). `bias-hold`
+//! and `highpass` need no pipeline ([`MotionRun::bias_hold`], [`MotionRun::highpass`]).
+//!
+//! The recording's rate column is axis x; axes y and z carry 0.0 (a constant axis gets the
+//! constant predictor, [`crate::stream::retrain::fit_axis`]).
+
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Arc;
+
+use serde::Serialize;
+
+use super::models::find_by_name;
+use super::motion::{MotionError, MotionRun};
+use crate::config::Config;
+use crate::model::baselines::{Ar, PersistenceModel};
+use crate::model::scaler::MinMaxScaler;
+use crate::stream::{
+    BuildError, FLAG_MOVING, InputSample, MotionConfig, Pipeline, Trainer, build_pipeline, offline_config, run_pipeline,
+};
+
+/// A model of the motion-injected protocol (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MotionModel {
+    /// The gyrocomp pipeline with its CPSO-LSSVM retrainer and motion gate.
+    Gyrocomp,
+    /// The same with the file's moving flags given as the publisher's flag (oracle).
+    GyrocompFlagged,
+    /// Raw minus the mean of the start-up window.
+    BiasHold,
+    /// Persistence of the denoised stream, no gate.
+    Persistence,
+    /// AR(p) on the denoised stream, no gate.
+    Ar,
+    /// Causal first-order high-pass of the raw rate.
+    Highpass,
+    /// Persistence behind the motion gate.
+    PersistenceGated,
+    /// AR(p) behind the motion gate.
+    ArGated,
+}
+
+impl MotionModel {
+    /// Every model, in table order.
+    pub const ALL: [Self; 8] = [
+        Self::Gyrocomp,
+        Self::GyrocompFlagged,
+        Self::BiasHold,
+        Self::Persistence,
+        Self::Ar,
+        Self::Highpass,
+        Self::PersistenceGated,
+        Self::ArGated,
+    ];
+
+    /// The name on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Gyrocomp => "gyrocomp",
+            Self::GyrocompFlagged => "gyrocomp-flagged",
+            Self::BiasHold => "bias-hold",
+            Self::Persistence => "persistence",
+            Self::Ar => "ar",
+            Self::Highpass => "highpass",
+            Self::PersistenceGated => "persistence-gated",
+            Self::ArGated => "ar-gated",
+        }
+    }
+
+    /// Whether the model runs through the pipeline (and so takes a while on long runs).
+    pub fn uses_pipeline(self) -> bool {
+        !matches!(self, Self::BiasHold | Self::Highpass)
+    }
+}
+
+impl fmt::Display for MotionModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for MotionModel {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        find_by_name(&Self::ALL, Self::name, s, "motion-protocol model")
+    }
+}
+
+/// Settings of the baselines that need no pipeline.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaselineSettings {
+    /// Start-up window of `bias-hold`, s.
+    pub startup_s: f64,
+    /// Cutoff of `highpass`, Hz.
+    pub highpass_hz: f64,
+}
+
+/// One model's compensated series and a short description of what ran.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelOutput {
+    /// Compensated rate of the rate column, one per sample, deg/s.
+    pub compensated: Vec<f64>,
+    /// What ran (models installed, samples gated, …).
+    pub detail: String,
+}
+
+/// Why a model could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum MotionModelError {
+    /// The pipeline could not be built.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// A baseline's settings or the run are unusable.
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+}
+
+/// A motion gate that never fires (thresholds at +∞): the model sees the whole stream.
+fn no_gate(window: usize) -> MotionConfig {
+    MotionConfig { rate_dps: f64::INFINITY, variance_dps2: f64::INFINITY, window }
+}
+
+/// The pipeline of a pipeline model, from the offline configuration.
+fn pipeline(model: MotionModel, config: &Config) -> Result<Pipeline, BuildError> {
+    let mut settings = config.pipeline()?;
+    if matches!(model, MotionModel::Persistence | MotionModel::Ar) {
+        settings.motion = no_gate(settings.motion.window);
+    }
+    let mut p = match model {
+        MotionModel::Gyrocomp | MotionModel::GyrocompFlagged => return build_pipeline(config),
+        _ => Pipeline::new(settings)?,
+    };
+    if matches!(model, MotionModel::Persistence | MotionModel::PersistenceGated) {
+        // Persistence is scale-free: any scaler gives the same forecast.
+        let identity = MinMaxScaler { min: -1.0, max: 1.0 };
+        for axis in 0..3 {
+            p.install_model(axis, Arc::new(PersistenceModel), identity, 1)?;
+        }
+    } else {
+        p.attach_trainer(Trainer::spawn(Ar::default()).map_err(BuildError::Trainer)?);
+    }
+    Ok(p)
+}
+
+/// Runs `model` on the stream `inputs` (the rate column on axis x, no flags; `moving` gives the
+/// file's flags for `gyrocomp-flagged`), calling `progress(samples_done)` as it goes.
+pub fn run_motion_model(
+    model: MotionModel,
+    config: &Config,
+    run: &MotionRun,
+    inputs: &[InputSample],
+    moving: &[bool],
+    baselines: BaselineSettings,
+    progress: &mut dyn FnMut(usize),
+) -> Result<ModelOutput, MotionModelError> {
+    match model {
+        MotionModel::BiasHold => {
+            let b = run.bias_hold(baselines.startup_s)?;
+            let detail = format!("mean of the first {} samples: {:.6} deg/s", b.samples, b.bias_dps);
+            return Ok(ModelOutput { compensated: b.compensated, detail });
+        }
+        MotionModel::Highpass => {
+            let detail = format!("first-order RC, cutoff {} Hz", baselines.highpass_hz);
+            return Ok(ModelOutput { compensated: run.highpass(baselines.highpass_hz)?, detail });
+        }
+        _ => {}
+    }
+    let config = offline_config(config);
+    let mut p = pipeline(model, &config)?;
+    let flagged = model == MotionModel::GyrocompFlagged;
+    let stream = inputs.iter().enumerate().map(|(i, s)| {
+        let flags = if flagged && moving.get(i).copied().unwrap_or(false) { FLAG_MOVING } else { 0 };
+        InputSample { flags, ..*s }
+    });
+    let mut compensated = Vec::with_capacity(inputs.len());
+    let done = run_pipeline(&mut p, stream, |i, out| {
+        compensated.push(out.rate_dps[0]);
+        progress(i + 1);
+    });
+    let s = done.stats;
+    let gate = if matches!(model, MotionModel::Persistence | MotionModel::Ar) { "no gate" } else { "gate" };
+    let detail = format!(
+        "{gate}, {} samples held as moving, {} models installed, {} fits failed",
+        s.moving, s.models_installed, s.retrain_failed
+    );
+    Ok(ModelOutput { compensated, detail })
+}

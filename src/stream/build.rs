@@ -1,0 +1,30 @@
+//! Building the pipeline from a configuration: the one construction every driver uses
+//! (design.md "One pipeline, three drivers"): `gyrocompd`, `gyrocomp compensate` and, through
+//! the daemon, `replay`.
+
+use super::pipeline::{Pipeline, PipelineError};
+use super::retrain::Trainer;
+use crate::config::{Config, ConfigError};
+
+/// Why a pipeline could not be built from a configuration.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    /// The configuration is invalid (the message names the key).
+    #[error("{0}")]
+    Config(#[from] ConfigError),
+    /// The pipeline refused its settings.
+    #[error("pipeline: {0}")]
+    Pipeline(#[from] PipelineError),
+    /// The retrain thread could not be started.
+    #[error("cannot start the retrain thread: {0}")]
+    Trainer(#[source] std::io::Error),
+}
+
+/// The pipeline of `config` ([`Config::pipeline`]) with the CPSO-LSSVM retrainer of `[retrain]`
+/// ([`Config::cpso_lssvm`], paper §2.2) attached on its own thread.
+pub fn build_pipeline(config: &Config) -> Result<Pipeline, BuildError> {
+    let mut pipeline = Pipeline::new(config.pipeline()?)?;
+    let trainer = Trainer::spawn_niced(config.cpso_lssvm()?, config.retrain.nice).map_err(BuildError::Trainer)?;
+    pipeline.attach_trainer(trainer);
+    Ok(pipeline)
+}

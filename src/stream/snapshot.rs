@@ -1,0 +1,457 @@
+//! Pipeline snapshots: the installed model of each axis and the pipeline state it reads, as one
+//! self-checking byte string (no file or thread code here; the daemon writes and reads the
+//! files, `crate::daemon::state`).
+//!
+//! A snapshot lets a restarted daemon compensate with its last model from the first sample: per
+//! axis it holds the model ([`ModelState`]: kernel expansion, embedding, γ, σ², solver), the
+//! scaler of its training window (paper Eq. 21), its version, and the warm state
+//! ([`AxisWarm`]: the causal denoiser's raw window, the static denoised history the model reads
+//! and retrains on, the bias estimate and the held drift). The restored history is concatenated
+//! with the samples after the restart exactly as the pipeline concatenates across a gap.
+//!
+//! Layout (all integers little-endian):
+//!
+//! | bytes | content |
+//! |---|---|
+//! | 0..8 | magic `GYROSNAP` |
+//! | 8..12 | format version ([`FORMAT_VERSION`]) |
+//! | 12..20 | payload length n |
+//! | 20..28 | FNV-1a 64 checksum of the payload (detects accidental corruption, not tampering) |
+//! | 28..28+n | payload: [`Snapshot`] in bincode 2 `standard()` encoding |
+//!
+//! Decoding trusts nothing: header, length, checksum, a size-limited decode with no trailing
+//! bytes, then [`Snapshot::validate`]; [`Snapshot::restore_into`] also checks the running
+//! configuration against [`Compat`] before it changes the pipeline.
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::embed::Embedding;
+use super::model_slot::InstalledModel;
+use super::pipeline::{Pipeline, PipelineConfig};
+use crate::model::Predict;
+use crate::model::scaler::MinMaxScaler;
+use crate::model::snapshot::ModelState;
+
+/// First bytes of every snapshot.
+pub const MAGIC: [u8; 8] = *b"GYROSNAP";
+/// Version of the layout and payload written by this build (the only one it reads).
+pub const FORMAT_VERSION: u32 = 1;
+/// Largest payload accepted, bytes (a 1,000,000-sample history of three axes is 24 MB).
+pub const MAX_PAYLOAD: usize = 256 << 20;
+/// Bytes before the payload.
+pub const HEADER_LEN: usize = 28;
+
+/// The settings a stored model and its warm state depend on; a snapshot made under other values
+/// is refused.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Compat {
+    /// `denoise.wavelet`.
+    pub wavelet: String,
+    /// `denoise.level`.
+    pub level: usize,
+    /// `denoise.window`.
+    pub denoise_window: usize,
+    /// `denoise.lag` (sets how far the model forecasts).
+    pub lag: usize,
+    /// `embedding.tau`, `embedding.dim`.
+    pub embedding: Embedding,
+    /// Nominal sample period from `input.rate_hz`, ns.
+    pub period_ns: u64,
+}
+
+impl Compat {
+    /// The values of a pipeline configuration.
+    pub fn of(config: &PipelineConfig) -> Self {
+        Self {
+            wavelet: config.causal.denoise.wavelet.name().to_owned(),
+            level: config.causal.denoise.level,
+            denoise_window: config.causal.window,
+            lag: config.causal.lag,
+            embedding: config.embedding,
+            period_ns: config.input.period_ns,
+        }
+    }
+
+    /// `Ok` when equal; otherwise the configuration keys that differ, with both values.
+    pub fn check(&self, running: &Self) -> Result<(), SnapshotError> {
+        let mut diffs = Vec::new();
+        let mut cmp = |key: &str, stored: String, now: String| {
+            if stored != now {
+                diffs.push(format!("{key} {stored} (snapshot) vs {now} (running)"));
+            }
+        };
+        cmp("denoise.wavelet", self.wavelet.clone(), running.wavelet.clone());
+        cmp("denoise.level", self.level.to_string(), running.level.to_string());
+        cmp("denoise.window", self.denoise_window.to_string(), running.denoise_window.to_string());
+        cmp("denoise.lag", self.lag.to_string(), running.lag.to_string());
+        cmp("embedding.tau", self.embedding.tau.to_string(), running.embedding.tau.to_string());
+        cmp("embedding.dim", self.embedding.dim.to_string(), running.embedding.dim.to_string());
+        cmp("input.rate_hz (period ns)", self.period_ns.to_string(), running.period_ns.to_string());
+        if diffs.is_empty() { Ok(()) } else { Err(SnapshotError::Incompatible(diffs.join("; "))) }
+    }
+}
+
+/// One axis' pipeline state beside its model (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisWarm {
+    /// Raw static samples in the causal denoiser's window, oldest first.
+    pub denoiser_window: Vec<f64>,
+    /// Static denoised samples (model input and training window), oldest first.
+    pub history: Vec<f64>,
+    /// Running static bias estimate (the fallback drift).
+    pub bias: f64,
+    /// Samples the bias estimate has averaged (capped at `pipeline.bias_samples`).
+    pub bias_count: u64,
+    /// Drift subtracted from the last accepted sample (held during motion).
+    pub drift: f64,
+    /// Last compensated value of an accepted sample (the substitute for a rejected one).
+    pub comp: f64,
+}
+
+impl AxisWarm {
+    /// Whether every value is finite.
+    pub fn is_finite(&self) -> bool {
+        [self.bias, self.drift, self.comp]
+            .iter()
+            .chain(&self.denoiser_window)
+            .chain(&self.history)
+            .all(|v| v.is_finite())
+    }
+}
+
+/// One axis: its installed model and warm state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisSnapshot {
+    /// The model (normalised units).
+    pub model: ModelState,
+    /// The scaler of the model's training window (Eq. 21).
+    pub scaler: MinMaxScaler,
+    /// The model's version.
+    pub version: u64,
+    /// Buffers and running values.
+    pub warm: AxisWarm,
+}
+
+/// The whole snapshot: the settings it depends on and the three axes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Settings the content depends on.
+    pub compat: Compat,
+    /// Axes x, y, z.
+    pub axes: [AxisSnapshot; 3],
+}
+
+/// Why a snapshot could not be made, read or used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SnapshotError {
+    /// Shorter than its header or than the payload length it announces.
+    #[error("truncated: {have} bytes, {need} expected")]
+    Truncated {
+        /// Bytes present.
+        have: usize,
+        /// Bytes needed.
+        need: usize,
+    },
+    /// The first bytes are not [`MAGIC`].
+    #[error("not a gyrocomp snapshot (bad magic bytes)")]
+    BadMagic,
+    /// Written by another format version.
+    #[error("format version {found}; this build reads version {FORMAT_VERSION}")]
+    Version {
+        /// The file's version.
+        found: u32,
+    },
+    /// The payload length is above [`MAX_PAYLOAD`].
+    #[error("payload of {0} bytes exceeds the {MAX_PAYLOAD}-byte limit")]
+    TooLarge(u64),
+    /// The payload does not match its checksum.
+    #[error("checksum mismatch: the file is corrupt")]
+    Checksum,
+    /// The payload does not decode.
+    #[error("cannot decode the payload: {0}")]
+    Decode(String),
+    /// The payload decodes but breaks an invariant.
+    #[error("invalid content: {0}")]
+    Invalid(String),
+    /// Made under settings that differ from the running configuration.
+    #[error("incompatible with the running configuration: {0}")]
+    Incompatible(String),
+    /// A model cannot be stored (its kind has no [`ModelState`]), or there is none.
+    #[error("axis {0}: no storable model installed")]
+    NotStorable(usize),
+}
+
+fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+fn codec() -> impl bincode::config::Config {
+    bincode::config::standard().with_limit::<MAX_PAYLOAD>()
+}
+
+impl Snapshot {
+    /// A snapshot of installed models and warm states; fails when an axis has no model or one
+    /// whose kind cannot be stored.
+    pub fn capture(
+        compat: Compat,
+        models: [Option<Arc<InstalledModel>>; 3],
+        warm: [AxisWarm; 3],
+    ) -> Result<Self, SnapshotError> {
+        let mut axes = Vec::with_capacity(3);
+        for (axis, (m, w)) in models.into_iter().zip(warm).enumerate() {
+            let m = m.ok_or(SnapshotError::NotStorable(axis))?;
+            let model = m.model.state().ok_or(SnapshotError::NotStorable(axis))?;
+            axes.push(AxisSnapshot { model, scaler: m.scaler, version: m.version, warm: w });
+        }
+        let axes = <[AxisSnapshot; 3]>::try_from(axes).map_err(|_| SnapshotError::NotStorable(3))?;
+        Ok(Self { compat, axes })
+    }
+
+    /// The newest model version among the axes.
+    pub fn model_version(&self) -> u64 {
+        self.axes.iter().map(|a| a.version).max().unwrap_or(0)
+    }
+
+    /// Checks what decoding cannot: valid models reading the stored embedding, finite scalers
+    /// and warm states.
+    pub fn validate(&self) -> Result<(), SnapshotError> {
+        for (axis, a) in self.axes.iter().enumerate() {
+            let invalid = |m: String| SnapshotError::Invalid(format!("axis {axis}: {m}"));
+            a.model.validate().map_err(|e| invalid(e.to_string()))?;
+            if let Some(model) = a.model.embedding() {
+                let pipeline = self.compat.embedding;
+                if (model.tau, model.dim) != (pipeline.tau, pipeline.dim) {
+                    return Err(invalid("the model's embedding differs from the snapshot's".into()));
+                }
+                if model.horizon != 1 && model.horizon != self.compat.lag + 1 {
+                    return Err(invalid(format!(
+                        "the model forecasts {} samples ahead; the pipeline needs 1 or denoise.lag + 1 = {}",
+                        model.horizon,
+                        self.compat.lag + 1
+                    )));
+                }
+            }
+            let s = a.scaler;
+            if !(s.min.is_finite() && s.max.is_finite() && s.min <= s.max) {
+                return Err(invalid(format!("scaler [{}, {}] is not a finite range", s.min, s.max)));
+            }
+            if !a.warm.is_finite() {
+                return Err(invalid("the warm state holds a non-finite value".into()));
+            }
+        }
+        Ok(())
+    }
+
+    /// The bytes of the snapshot: header and payload (see the module documentation).
+    pub fn encode(&self) -> Result<Vec<u8>, SnapshotError> {
+        let payload = bincode::serde::encode_to_vec(self, codec()).map_err(|e| SnapshotError::Decode(e.to_string()))?;
+        let mut out = Vec::with_capacity(HEADER_LEN + payload.len());
+        out.extend_from_slice(&MAGIC);
+        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+        out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        out.extend_from_slice(&fnv1a64(&payload).to_le_bytes());
+        out.extend_from_slice(&payload);
+        Ok(out)
+    }
+
+    /// Decodes and validates bytes made by [`Snapshot::encode`]; every failure is an error.
+    pub fn decode(bytes: &[u8]) -> Result<Self, SnapshotError> {
+        if bytes.len() < HEADER_LEN {
+            if !MAGIC.starts_with(&bytes[..bytes.len().min(MAGIC.len())]) {
+                return Err(SnapshotError::BadMagic);
+            }
+            return Err(SnapshotError::Truncated { have: bytes.len(), need: HEADER_LEN });
+        }
+        let word = |r: std::ops::Range<usize>| {
+            let mut b = [0u8; 8];
+            b[..r.len()].copy_from_slice(&bytes[r]);
+            u64::from_le_bytes(b)
+        };
+        if bytes[..8] != MAGIC {
+            return Err(SnapshotError::BadMagic);
+        }
+        let version = word(8..12) as u32;
+        if version != FORMAT_VERSION {
+            return Err(SnapshotError::Version { found: version });
+        }
+        let len = word(12..20);
+        if len > MAX_PAYLOAD as u64 {
+            return Err(SnapshotError::TooLarge(len));
+        }
+        let need = HEADER_LEN + len as usize;
+        if bytes.len() != need {
+            return Err(SnapshotError::Truncated { have: bytes.len(), need });
+        }
+        let payload = &bytes[HEADER_LEN..];
+        if fnv1a64(payload) != word(20..28) {
+            return Err(SnapshotError::Checksum);
+        }
+        let (snapshot, used): (Self, usize) =
+            bincode::serde::decode_from_slice(payload, codec()).map_err(|e| SnapshotError::Decode(e.to_string()))?;
+        if used != payload.len() {
+            return Err(SnapshotError::Decode(format!("{} trailing bytes", payload.len() - used)));
+        }
+        snapshot.validate()?;
+        Ok(snapshot)
+    }
+
+    /// Installs the models and restores the warm state into `pipeline`, after checking the
+    /// snapshot against the pipeline's configuration; on an error the pipeline is unchanged.
+    pub fn restore_into(&self, pipeline: &mut Pipeline) -> Result<(), SnapshotError> {
+        self.compat.check(&Compat::of(pipeline.config()))?;
+        self.validate()?;
+        let warm = self.axes.each_ref().map(|a| a.warm.clone());
+        pipeline.restore_warm_state(&warm).map_err(|e| SnapshotError::Invalid(e.to_string()))?;
+        for (axis, a) in self.axes.iter().enumerate() {
+            let model: Arc<dyn Predict + Send + Sync> = Arc::new(a.model.clone());
+            pipeline
+                .install_model(axis, model, a.scaler, a.version)
+                .map_err(|e| SnapshotError::Incompatible(format!("axis {axis}: {e}")))?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Config;
+    use crate::model::cpso::CpsoConfig;
+    use crate::model::lssvm::CpsoLssvm;
+    use crate::stream::retrain::fit_axis;
+    use crate::stream::{InputSample, OutputSample, STATUS_NO_MODEL};
+
+    fn config() -> Config {
+        let mut c = Config::default();
+        c.denoise.window = 64;
+        c.retrain.window = 300;
+        c.retrain.min_samples = 100;
+        c
+    }
+
+    /// A static three-axis stream: slow drift plus deterministic pseudo-random noise.
+    fn sample(k: u64) -> InputSample {
+        let noise = |a: u64| {
+            let h = (k * 3 + a).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11;
+            (h as f64 / (1u64 << 53) as f64 - 0.5) * 0.02
+        };
+        let drift = |a: u64| 0.05 * ((k as f64) * 0.01 + a as f64).sin();
+        InputSample::new(k, k * 10_000_000, [drift(0) + noise(0), drift(1) + noise(1), drift(2) + noise(2)])
+    }
+
+    /// A pipeline that has run `n` samples and has the retrainer's kind of model (version 4):
+    /// a CPSO-LSSVM forecasting denoise.lag + 1 samples ahead on axes x and y, and the constant
+    /// model a constant training window gets on axis z.
+    fn trained(config: &Config, n: u64) -> Pipeline {
+        let mut p = Pipeline::new(config.pipeline().unwrap()).unwrap();
+        for k in 0..n {
+            p.process(&sample(k));
+        }
+        let fit = CpsoLssvm {
+            embedding: config.cpso_lssvm().unwrap().embedding,
+            cpso: CpsoConfig { candidates: 4, particles: 2, iterations: 2, ..CpsoConfig::default() },
+            exact_max_rows: 150,
+            prototypes: 30,
+            ..CpsoLssvm::default()
+        };
+        assert!(fit.embedding.horizon > 1);
+        for axis in 0..3 {
+            let window = if axis == 2 { vec![0.25; 300] } else { p.training_window(axis) };
+            let f = fit_axis(&fit, &window).unwrap();
+            p.install_model(axis, f.model, f.scaler, 4).unwrap();
+        }
+        p
+    }
+
+    fn capture(p: &Pipeline) -> Snapshot {
+        let models = [0, 1, 2].map(|a| (*p.model_slot(a).unwrap().load()).clone());
+        Snapshot::capture(Compat::of(p.config()), models, p.warm_state()).unwrap()
+    }
+
+    fn run(p: &mut Pipeline, from: u64, n: u64) -> Vec<OutputSample> {
+        (from..from + n).map(|k| p.process(&sample(k))).collect()
+    }
+
+    #[test]
+    fn a_restored_pipeline_compensates_bit_identically_from_the_first_sample() {
+        let c = config();
+        let mut original = trained(&c, 600);
+        let bytes = capture(&original).encode().unwrap();
+        let snapshot = Snapshot::decode(&bytes).unwrap();
+        assert_eq!(snapshot, capture(&original));
+        assert_eq!(snapshot.model_version(), 4);
+
+        let mut restored = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        snapshot.restore_into(&mut restored).unwrap();
+        assert_eq!(restored.model_version(), 4);
+        let want = run(&mut original, 600, 200);
+        let got = run(&mut restored, 600, 200);
+        assert!(got.iter().all(|o| o.status & STATUS_NO_MODEL == 0 && o.model_version == 4));
+        for (g, w) in got.iter().zip(&want) {
+            assert_eq!(g.drift_dps.map(f64::to_bits), w.drift_dps.map(f64::to_bits), "seq {}", g.seq);
+            assert_eq!(g, w);
+        }
+        // A cold pipeline has no model for these samples: the snapshot is what made the difference.
+        let mut cold = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        assert!(run(&mut cold, 600, 5).iter().all(|o| o.status & STATUS_NO_MODEL != 0));
+        // The next retrain of the restored pipeline trains on the same window.
+        assert_eq!(restored.training_windows(), original.training_windows());
+    }
+
+    #[test]
+    fn corrupt_truncated_foreign_and_incompatible_snapshots_are_refused() {
+        let c = config();
+        let snapshot = capture(&trained(&c, 400));
+        let good = snapshot.encode().unwrap();
+        let decode = |b: &[u8]| Snapshot::decode(b).unwrap_err();
+
+        assert!(matches!(decode(&good[..good.len() - 1]), SnapshotError::Truncated { .. }));
+        assert!(matches!(decode(&good[..10]), SnapshotError::Truncated { .. }));
+        assert!(matches!(decode(&[]), SnapshotError::Truncated { .. }));
+        let mut longer = good.clone();
+        longer.push(0);
+        assert!(matches!(decode(&longer), SnapshotError::Truncated { .. }));
+        let mut magic = good.clone();
+        magic[0] = b'X';
+        assert_eq!(decode(&magic), SnapshotError::BadMagic);
+        assert_eq!(decode(b"{\"json\": 1}"), SnapshotError::BadMagic);
+        let mut version = good.clone();
+        version[8..12].copy_from_slice(&2u32.to_le_bytes());
+        assert_eq!(decode(&version), SnapshotError::Version { found: 2 });
+        let mut huge = good.clone();
+        huge[12..20].copy_from_slice(&u64::MAX.to_le_bytes());
+        assert!(matches!(decode(&huge), SnapshotError::TooLarge(_)));
+        for at in [HEADER_LEN, HEADER_LEN + 100, good.len() / 2, good.len() - 1] {
+            let mut flipped = good.clone();
+            flipped[at] ^= 0x10;
+            assert_eq!(decode(&flipped), SnapshotError::Checksum, "byte {at}");
+        }
+        // A payload with a valid checksum that is not a snapshot.
+        let garbage = vec![0xFFu8; 64];
+        let mut forged = good[..HEADER_LEN].to_vec();
+        forged[12..20].copy_from_slice(&(garbage.len() as u64).to_le_bytes());
+        forged[20..28].copy_from_slice(&fnv1a64(&garbage).to_le_bytes());
+        forged.extend_from_slice(&garbage);
+        assert!(matches!(decode(&forged), SnapshotError::Decode(_)));
+        // Well-formed but invalid content.
+        let mut nan = snapshot.clone();
+        nan.axes[1].warm.history[3] = f64::NAN;
+        assert!(matches!(decode(&nan.encode().unwrap()), SnapshotError::Invalid(m) if m.contains("axis 1")));
+        let mut scaler = snapshot.clone();
+        scaler.axes[0].scaler.min = 5.0;
+        assert!(matches!(decode(&scaler.encode().unwrap()), SnapshotError::Invalid(_)));
+
+        // Incompatible settings name the key and leave the pipeline untouched.
+        let mut other = c.clone();
+        other.denoise.lag = 7;
+        other.input.rate_hz = 200.0;
+        let mut p = Pipeline::new(other.pipeline().unwrap()).unwrap();
+        let err = Snapshot::decode(&good).unwrap().restore_into(&mut p).unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("denoise.lag 5 (snapshot) vs 7 (running)") && msg.contains("input.rate_hz"), "{msg}");
+        assert_eq!(p.model_version(), 0);
+        assert!(p.training_window(0).is_empty());
+    }
+}

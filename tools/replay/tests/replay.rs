@@ -1,0 +1,148 @@
+//! The `replay` binary end to end (issue 6): bit-for-bit equivalence with the offline driver,
+//! in embedded mode and against an already running daemon; lossless `--max` through a small
+//! subscriber buffer; pacing with `--speed`. Every daemon runs in a private iceoryx2 domain of its
+//! own (unique prefix and root path), removed afterwards.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use gyrocomp::cli::sim::write_sim_csv;
+use gyrocomp::config::Config;
+use gyrocomp::io::{CompensatedCsvWriter, Recording};
+use gyrocomp::sim::{Generator, Preset};
+use gyrocomp::stream::compensate_recording;
+use replay::EmbeddedDaemon;
+use serde_json::Value;
+
+const COLUMNS: &str = "gx_dps,gy_dps,gz_dps";
+
+/// A 10 Hz three-axis simulated recording of `seconds`.
+fn recording(dir: &Path, seconds: f64) -> PathBuf {
+    let mut sim = Preset::Paper.config();
+    sim.duration_s = seconds;
+    let path = dir.join(format!("sim_{seconds}.csv"));
+    write_sim_csv(&path, &Generator::generate(&sim, 3).unwrap()).unwrap();
+    path
+}
+
+/// Deterministic retraining every 1000 samples, 10 Hz, plus `extra` TOML.
+fn config_text(extra: &str) -> String {
+    format!(
+        "[input]\nrate_hz = 10.0\n\
+         [retrain]\nmode = \"deterministic\"\nwindow = 600\nmin_samples = 300\nevery_samples = 1000\n\
+         apply_delay_samples = 50\ncpso_candidates = 6\ncpso_particles = 3\ncpso_iterations = 2\n{extra}"
+    )
+}
+
+fn write_config(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("replay.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Runs `replay` and returns its JSON summary (asserting exit 0).
+fn replay(args: &[&str]) -> Value {
+    let out = Command::new(env!("CARGO_BIN_EXE_replay")).args(args).output().unwrap();
+    assert!(out.status.success(), "replay {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+/// The offline driver's output file for the same recording and configuration.
+fn offline_csv(input: &Path, config: &Config, out: &Path) -> Vec<u8> {
+    let rec = Recording::load(input, &["gx_dps", "gy_dps", "gz_dps"], None).unwrap();
+    let mut outputs = Vec::new();
+    compensate_recording(config, &rec, |_, o| outputs.push(*o)).unwrap();
+    let mut w = CompensatedCsvWriter::create(out, &rec).unwrap();
+    for (i, o) in outputs.iter().enumerate() {
+        w.write(i, o).unwrap();
+    }
+    w.finish().unwrap();
+    std::fs::read(out).unwrap()
+}
+
+/// Replays `input`'s three axes with `config` through the `daemon` choice into `out`; `extra`
+/// arguments follow.
+fn replay_file(input: &Path, config: &Path, daemon: &str, out: &Path, extra: &[&str]) -> Value {
+    let mut args = vec![input.to_str().unwrap(), "--config", config.to_str().unwrap(), "--column", COLUMNS];
+    args.extend(["--daemon", daemon, "-o", out.to_str().unwrap(), "--json"]);
+    args.extend(extra);
+    replay(&args)
+}
+
+fn count(v: &Value, key: &str) -> u64 {
+    v[key].as_u64().unwrap_or_else(|| panic!("`{key}` in {v}"))
+}
+
+#[test]
+fn embedded_replay_equals_the_offline_driver_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = recording(dir.path(), 300.0);
+    let text = config_text("");
+    let config_path = write_config(dir.path(), &text);
+    let out = dir.path().join("replayed.csv");
+    let s = replay_file(&input, &config_path, "embedded", &out, &["--max"]);
+    assert_eq!(s["daemon"], "embedded");
+    assert_eq!((count(&s, "sent"), count(&s, "received"), count(&s, "dropped")), (3000, 3000, 0));
+    assert!(count(&s, "model_version") >= 2, "{s}");
+    let config = Config::from_toml(&text, "replay.toml").unwrap();
+    let offline = offline_csv(&input, &config, &dir.path().join("offline.csv"));
+    let replayed = std::fs::read(&out).unwrap();
+    assert_eq!(replayed.iter().filter(|&&b| b == b'\n').count(), 3001);
+    assert!(replayed == offline, "replay and the offline driver differ");
+}
+
+#[test]
+fn replay_against_a_running_daemon_is_lossless_through_a_small_buffer() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = recording(dir.path(), 1000.0);
+    // A 64-sample subscriber buffer: 10,000 samples at --max must come back by backpressure.
+    let text = config_text("[ipc]\nsubscriber_buffer = 64\n");
+    let config = Config::from_toml(&text, "replay.toml").unwrap();
+    let (daemon, private) = EmbeddedDaemon::start(&config).unwrap();
+    let private_text = format!(
+        "{text}domain_prefix = \"{}\"\ndomain_root = \"{}\"\n",
+        private.ipc.domain_prefix, private.ipc.domain_root
+    );
+    let config_path = write_config(dir.path(), &private_text);
+    let out = dir.path().join("replayed.csv");
+    let s = replay_file(&input, &config_path, "running", &out, &["--find-daemon-s", "5"]);
+    let summary = daemon.stop().unwrap();
+    assert_eq!(s["daemon"], "running");
+    assert_eq!((count(&s, "sent"), count(&s, "received"), count(&s, "dropped")), (10_000, 10_000, 0));
+    assert_eq!((summary.samples_in, summary.samples_out, summary.send_failures), (10_000, 10_000, 0));
+    // A fresh daemon with deterministic retraining answers exactly like the offline driver.
+    let offline = offline_csv(&input, &config, &dir.path().join("offline.csv"));
+    assert!(std::fs::read(&out).unwrap() == offline, "replay through the running daemon differs from offline");
+}
+
+#[test]
+fn speed_paces_by_the_recording_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = recording(dir.path(), 30.0);
+    let config_path = write_config(dir.path(), &config_text(""));
+    // 299 sample periods of 0.1 s at 100× speed: at least 0.299 s.
+    let s = replay(&[
+        input.to_str().unwrap(),
+        "--config",
+        config_path.to_str().unwrap(),
+        "--daemon",
+        "embedded",
+        "--speed",
+        "100",
+        "--json",
+    ]);
+    assert_eq!((count(&s, "sent"), count(&s, "received")), (300, 300));
+    let duration = s["duration_s"].as_f64().unwrap();
+    assert!(duration >= 0.299, "paced replay took only {duration} s");
+}
+
+#[test]
+fn bad_input_is_an_error_naming_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "t_s,gx_dps\n0.0,0.1\n0.1,abc\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_replay")).arg(&bad).arg("--daemon").arg("embedded").output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.csv") && err.contains(":3") && err.contains("gx_dps"), "{err}");
+}
