@@ -14,8 +14,8 @@ use super::CliError;
 use super::input::load_series;
 use super::simgap_report::write_report;
 use super::simgap_selftest::run_selftest_cli;
-use crate::diag::simgap::gap::{Flag, PartComparison};
 use crate::diag::simgap::baseline::NoiseTerms;
+use crate::diag::simgap::gap::{Flag, PartComparison};
 use crate::diag::simgap::stats::{StatInfo, fmt_num};
 use crate::diag::simgap::{Baseline, Diagnosis, Recording, Settings, Verdict, diagnose};
 use crate::sim::SimConfig;
@@ -218,9 +218,12 @@ fn json_report<'a>(args: &'a SimgapArgs, d: &Diagnosis) -> JsonReport<'a> {
             );
             m.insert("gap".into(), e.evaluation.as_ref().map(|v| v.train.score.gap).into());
             m.insert("gap_holdout".into(), e.evaluation.as_ref().map(|v| v.hold.score.gap).into());
-            m.insert("explains".into(), e.judgement.is_some_and(|j| j.explains).into());
+            m.insert("explains".into(), e.accepted().into());
             m.insert("share_train".into(), e.judgement.and_then(|j| j.share_train).into());
             m.insert("share_holdout".into(), e.judgement.and_then(|j| j.share_hold).into());
+            m.insert("explains_against_own_null".into(), e.accepted_by_own_null().into());
+            m.insert("gap_own_null".into(), e.own_null.as_ref().map(|v| v.train.score.gap).into());
+            m.insert("gap_holdout_own_null".into(), e.own_null.as_ref().map(|v| v.hold.score.gap).into());
             m.insert("note".into(), e.note.clone().into());
             Value::Object(m)
         })
@@ -407,6 +410,10 @@ fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis, seconds: f
     writeln!(out, "Which (candidate effects, best first; share = part of the excess gap removed):")?;
     writeln!(
         out,
+        "  (accepted \"own null\": the recording leaves the noise refitted without the effect, and the effect removes that gap)"
+    )?;
+    writeln!(
+        out,
         "  {:<13} {:>9} {:>9} {:>8} {:>8} {:>9}  params",
         "effect", "gap train", "gap hold", "share tr", "share ho", "accepted"
     )?;
@@ -424,7 +431,11 @@ fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis, seconds: f
                     ev.hold.score.gap,
                     share(j.and_then(|j| j.share_train)),
                     share(j.and_then(|j| j.share_hold)),
-                    if j.is_some_and(|j| j.explains) { "yes" } else { "no" },
+                    match (j.is_some_and(|j| j.explains), e.accepted_by_own_null()) {
+                        (true, _) => "yes",
+                        (false, true) => "own null",
+                        (false, false) => "no",
+                    },
                     params.join(" ")
                 )?;
             }

@@ -353,16 +353,15 @@ pub fn write_report(dir: &Path, args: &SimgapArgs, d: &Diagnosis) -> Result<Path
             || e.note.clone().unwrap_or_default(),
             |p| p.named().iter().map(|(k, v)| format!("{k} = {v:.4e}")).collect::<Vec<_>>().join(", "),
         );
-        let (g, h) = e
-            .evaluation
-            .as_ref()
-            .map_or(("–".to_owned(), "–".to_owned()), |v| (format!("{:.3}", v.train.score.gap), format!("{:.3}", v.hold.score.gap)));
+        let (g, h) = e.evaluation.as_ref().map_or(("–".to_owned(), "–".to_owned()), |v| {
+            (format!("{:.3}", v.train.score.gap), format!("{:.3}", v.hold.score.gap))
+        });
         let _ = write!(
             html,
             "<tr><td>{}</td><td>{}</td><td>{g}</td><td>{h}</td><td>{}</td></tr>",
             e.kind.name(),
             escape(&params),
-            if e.judgement.is_some_and(|j| j.explains) { "yes" } else { "no" }
+            if e.accepted() { "yes" } else { "no" }
         );
     }
     html.push_str("</table>");

@@ -8,6 +8,8 @@
 //! 4. Fit each candidate effect on the training part ([`super::effects`]); its model is the
 //!    baseline refitted on the training part with the effect's deterministic part removed, plus the
 //!    effect (with a given model: the given model plus the effect). Run its ensemble.
+//!    Effects with a deterministic part are also evaluated against their own null (the refitted
+//!    noise without the effect, [`super::greedy`]).
 //! 5. Rank, accept and combine ([`super::greedy`]): **which**, and the gap **after** on the
 //!    hold-out part.
 
@@ -18,7 +20,7 @@ use super::baseline::NoiseTerms;
 use super::effects::{EffectKind, EffectParams, Fitted, FittedEffect, TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::detect_grid;
-use super::greedy::{Judgement, combine, judge};
+use super::greedy::{Judgement, OWN_NULL_LEVEL, combine, judge};
 use super::model::SimModel;
 use super::refit::refit_noise_terms;
 use super::stats::StatLayout;
@@ -72,7 +74,8 @@ pub struct Recording<'a> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
-    /// Neither part of the baseline shows a significant gap.
+    /// Neither part of the baseline shows a significant gap, and no effect is accepted against its
+    /// own null ([`super::greedy`]).
     NoSignificantGap,
     /// The chosen effects leave no significant gap on either part.
     Explained,
@@ -111,6 +114,24 @@ pub struct EffectResult {
     pub evaluation: Option<Evaluation>,
     /// How it compares with the baseline.
     pub judgement: Option<Judgement>,
+    /// Its own null ([`super::greedy`]): the refitted noise without the effect, evaluated and
+    /// tested at [`OWN_NULL_LEVEL`] (`None` when the effect has no deterministic part or the
+    /// baseline is given).
+    pub own_null: Option<Evaluation>,
+    /// How baseline-refit + effect compares with its own null.
+    pub own_null_judgement: Option<Judgement>,
+}
+
+impl EffectResult {
+    /// Whether adding the effect is accepted against the baseline or against its own null.
+    pub fn accepted(&self) -> bool {
+        self.judgement.is_some_and(|j| j.explains) || self.accepted_by_own_null()
+    }
+
+    /// Whether it is accepted against its own null ([`super::greedy`]).
+    pub fn accepted_by_own_null(&self) -> bool {
+        self.own_null_judgement.is_some_and(|j| j.explains)
+    }
 }
 
 /// Everything a diagnosis found.
@@ -163,11 +184,30 @@ impl ModelBuilder<'_> {
     /// The model of the baseline plus `effects`, and the noise terms refitted without the
     /// effects' deterministic parts ([`super::refit`]).
     fn build(&self, effects: &[&FittedEffect]) -> Result<(SimModel, Option<NoiseTerms>), SimgapError> {
+        self.build_with(effects, true)
+    }
+
+    /// The effect's own null ([`super::greedy`]): the noise terms refitted with the effect's
+    /// deterministic part removed, simulated without the effect. `None` with a given baseline
+    /// (nothing is refitted) and for effects without a deterministic part (their null is the
+    /// baseline).
+    fn build_own_null(&self, effect: &FittedEffect) -> Result<Option<SimModel>, SimgapError> {
+        if !matches!(self.baseline, Baseline::Fitted) || effect.training_part.is_none() {
+            return Ok(None);
+        }
+        Ok(Some(self.build_with(&[effect], false)?.0))
+    }
+
+    fn build_with(
+        &self,
+        effects: &[&FittedEffect],
+        add_effects: bool,
+    ) -> Result<(SimModel, Option<NoiseTerms>), SimgapError> {
         let fs = self.train.rate_hz;
         match self.baseline {
             Baseline::Given(axis) => {
                 let mut model = SimModel::from_axis(axis);
-                for e in effects {
+                for e in effects.iter().filter(|_| add_effects) {
                     e.params.apply(&mut model);
                 }
                 Ok((model, None))
@@ -176,7 +216,7 @@ impl ModelBuilder<'_> {
                 let with_gm = effects.iter().any(|e| e.params.kind() == EffectKind::GaussMarkov);
                 let mut terms = refit_noise_terms(&self.train, effects, with_gm, self.total_s, self.seed)?;
                 tracing::debug!("noise terms refitted with {} effect(s): {terms:?}", effects.len());
-                for e in effects {
+                for e in effects.iter().filter(|_| add_effects) {
                     if let EffectParams::Quantization { step_dps } = e.params {
                         // A rate quantiser adds white noise of variance Δ²/12, which the fitted N
                         // already holds: take it out so it is not simulated twice.
@@ -185,7 +225,7 @@ impl ModelBuilder<'_> {
                 }
                 let bias = self.train.x.iter().sum::<f64>() / self.train.x.len() as f64;
                 let mut model = terms.to_model(fs, self.total_s, bias);
-                for e in effects.iter().filter(|e| e.params.kind() != EffectKind::GaussMarkov) {
+                for e in effects.iter().filter(|e| add_effects && e.params.kind() != EffectKind::GaussMarkov) {
                     e.params.apply(&mut model);
                 }
                 Ok((model, Some(terms)))
@@ -261,17 +301,42 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     evaluation.train.score.gap,
                     evaluation.hold.score.gap
                 );
+                let own_null = match builder.build_own_null(effect)? {
+                    Some(null_model) => {
+                        ensembles_run += 1;
+                        Some(evaluate(&setup, &null_model)?.at_level(OWN_NULL_LEVEL))
+                    }
+                    None => None,
+                };
+                let own_null_judgement = own_null.as_ref().map(|n| judge(n, &evaluation, settings.min_share));
+                if let Some(n) = &own_null {
+                    tracing::info!(
+                        "{} own null: gap {:.3} (training), {:.3} (hold-out), significant {}",
+                        kind.name(),
+                        n.train.score.gap,
+                        n.hold.score.gap,
+                        n.significant()
+                    );
+                }
                 EffectResult {
                     kind: *kind,
                     params: Some(effect.params.clone()),
                     note: None,
                     judgement: Some(judge(&before, &evaluation, settings.min_share)),
                     evaluation: Some(evaluation),
+                    own_null,
+                    own_null_judgement,
                 }
             }
-            Fitted::NotApplicable(why) => {
-                EffectResult { kind: *kind, params: None, note: Some(why.clone()), evaluation: None, judgement: None }
-            }
+            Fitted::NotApplicable(why) => EffectResult {
+                kind: *kind,
+                params: None,
+                note: Some(why.clone()),
+                evaluation: None,
+                judgement: None,
+                own_null: None,
+                own_null_judgement: None,
+            },
         };
         effects.push(result);
     }
@@ -287,14 +352,15 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
             _ => None,
         })
     };
-    let combination = combine(&before, &ranked, settings.min_share, settings.max_effects, |set| {
+    let own_null: Vec<EffectKind> = effects.iter().filter(|e| e.accepted_by_own_null()).map(|e| e.kind).collect();
+    let combination = combine(&before, &ranked, &own_null, settings.min_share, settings.max_effects, |set| {
         let parts: Vec<&FittedEffect> = set.iter().filter_map(|&k| found(k)).collect();
         let (model, _) = builder.build(&parts)?;
         evaluate(&setup, &model)
     })?;
     ensembles_run += combination.evaluations;
     let tried = combination.chosen;
-    let verdict = if !before.significant() {
+    let verdict = if !before.significant() && own_null.is_empty() {
         Verdict::NoSignificantGap
     } else if tried.is_empty() || combination.after.hold.significant {
         Verdict::Unexplained

@@ -62,6 +62,11 @@ pub struct Evaluation {
 }
 
 impl Evaluation {
+    /// Both parts tested at the stricter level `p` ([`PartComparison::at_level`]).
+    pub fn at_level(&self, p: f64) -> Evaluation {
+        Evaluation { train: self.train.at_level(p), hold: self.hold.at_level(p) }
+    }
+
     /// Whether either part shows a significant gap.
     pub fn significant(&self) -> bool {
         self.train.significant || self.hold.significant

@@ -252,6 +252,15 @@ impl PartComparison {
         Self { real, bands, z, score, null, t, flag, significant }
     }
 
+    /// The same comparison tested at the stricter level `p` (> [`NULL_LEVEL`]): T against the `p`
+    /// quantile of the members' Gumbel law, for a test that is one of several.
+    pub fn at_level(&self, p: f64) -> PartComparison {
+        let mut strict = self.clone();
+        strict.null.threshold = gumbel_quantile(self.null.t, p);
+        strict.significant = strict.t > strict.null.threshold;
+        strict
+    }
+
     /// The gap² above what a matching simulation leaves (gap² − null median², ≥ 0): the quantity
     /// whose share an effect must remove.
     pub fn excess(&self) -> f64 {

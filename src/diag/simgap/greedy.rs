@@ -6,6 +6,18 @@
 //!   the null median², what a matching simulation leaves), or leaves no significant gap there;
 //! - without one: it does not create one.
 //!
+//! **The effect's own null** (first step only): a fitted baseline absorbs a deterministic bias
+//! motion (a warm-up, a temperature response) into its rate random walk K, which widens the
+//! ensemble's band until the motion hides in it. So each effect with a deterministic part is also
+//! judged against its *own null*: the noise terms refitted with the effect's part removed
+//! ([`super::refit`]) and simulated *without* the effect. Under "no effect" the refit barely moves
+//! and this null is the baseline again; with the effect it has the recording's real noise and the
+//! effect stands out. An effect is accepted by this route when the recording leaves its own null
+//! significantly at the stricter [`OWN_NULL_LEVEL`] (one test per effect, so the family of them
+//! keeps the baseline's one false alarm in 100) and adding the effect is accepted against that
+//! null by the rule above. (This is the parametric bootstrap test of "effect = 0" with the
+//! nuisance parameters estimated under the alternative.)
+//!
 //! **Ranking**: by the mean of the training and hold-out gaps (best first).
 //!
 //! **Greedy combination**: start from the baseline; take the best-ranked effect whose addition is
@@ -18,6 +30,9 @@ use super::SimgapError;
 use super::effects::EffectKind;
 use super::ensemble::Evaluation;
 use super::gap::PartComparison;
+
+/// Level of the test against an effect's own null: 1 − 0.01/8, Bonferroni over the eight effects.
+pub const OWN_NULL_LEVEL: f64 = 1.0 - 0.01 / 8.0;
 
 /// How an evaluation compares with a reference.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,10 +77,13 @@ pub struct Combination {
 }
 
 /// Greedy combination (module docs). `ranked` holds the applicable effects best first with their
-/// single-effect evaluations; `evaluate` builds and evaluates the model of a set of effects.
+/// single-effect evaluations; `own_null` lists the effects accepted against their own null (module
+/// docs), which may be the first step even when the baseline shows no significant gap;
+/// `evaluate` builds and evaluates the model of a set of effects.
 pub fn combine(
     baseline: &Evaluation,
     ranked: &[(EffectKind, &Evaluation)],
+    own_null: &[EffectKind],
     min_share: f64,
     max_effects: usize,
     mut evaluate: impl FnMut(&[EffectKind]) -> Result<Evaluation, SimgapError>,
@@ -73,7 +91,7 @@ pub fn combine(
     let mut chosen: Vec<EffectKind> = Vec::new();
     let mut current = baseline.clone();
     let mut evaluations = 0;
-    while current.significant() && chosen.len() < max_effects {
+    while (current.significant() || (chosen.is_empty() && !own_null.is_empty())) && chosen.len() < max_effects {
         let mut added = None;
         for &(kind, single) in ranked {
             if chosen.contains(&kind) {
@@ -90,7 +108,8 @@ pub fn combine(
                 evaluations += 1;
                 evaluate(&set)?
             };
-            if judge(&current, &candidate, min_share).explains {
+            let by_own_null = chosen.is_empty() && own_null.contains(&kind);
+            if by_own_null || judge(&current, &candidate, min_share).explains {
                 added = Some((kind, candidate));
                 break;
             }

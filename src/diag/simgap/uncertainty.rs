@@ -82,7 +82,10 @@ mod tests {
         // N² grows by 21 %: N by 10 %; Q² cannot go below zero; B and K are left alone.
         assert!((m.axis.arw_deg_rt_h.unwrap() / 60.0 - 0.044).abs() < 1e-12);
         assert_eq!(m.angle_noise_q_deg, 0.0);
-        assert_eq!((m.axis.bias_instability.clone(), m.axis.rrw_deg_h_rt_h), (model.axis.bias_instability.clone(), model.axis.rrw_deg_h_rt_h));
+        assert_eq!(
+            (m.axis.bias_instability.clone(), m.axis.rrw_deg_h_rt_h),
+            (model.axis.bias_instability.clone(), model.axis.rrw_deg_h_rt_h)
+        );
         let deltas = bootstrap(&terms, 10.0, 20_000, 2000.0, 4, 3).unwrap();
         assert_eq!(deltas.len(), 4);
         // Refits scatter around the fit: the N² changes are small.
