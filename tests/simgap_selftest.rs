@@ -1,10 +1,11 @@
 //! A small version of `gyrocomp simgap --selftest` (the full one — ten seeded 10,000 s cases of
-//! each kind with ensembles of 32 — is in README "Sim-to-real diagnosis"): one seeded case of each
-//! effect and of each control on 3000 s recordings with ensembles of 24, so that it runs in the
-//! dev profile in well under a minute. Short recordings hide slow effects more often (the full
-//! self-test at 3000 s named 15 of 20 cases right), so this asserts what must not regress: both
-//! controls behave (no significant gap without an effect; the out-of-catalogue chirp stays
-//! unexplained, no effect named) and at least six of the eight effects are named.
+//! each kind with ensembles of 32, 96 of 100 right — is in README "Sim-to-real diagnosis"): one
+//! seeded case of each effect and of each control on 3000 s recordings with ensembles of 24, so
+//! that it runs in the dev profile in under a minute (47 s here). Short recordings hide some
+//! effects (here the spikes case stays unexplained at 3000 s), so this asserts what must not
+//! regress: both controls behave (no significant gap without an effect; the out-of-catalogue chirp
+//! stays unexplained, no effect named), at least seven of the eight effects are named, and no
+//! effect is ever named in place of the injected one.
 
 use gyrocomp::diag::simgap::Settings;
 use gyrocomp::diag::simgap::selftest::{Injected, SelftestSettings, run_selftest};
@@ -26,7 +27,7 @@ fn small_selftest_keeps_the_controls_and_names_most_effects() {
         assert!(r.correct, "{}: {:?} {:?}", r.injected.name(), r.verdict, r.named);
     }
     let named = results.iter().filter(|r| matches!(r.injected, Injected::Effect(_)) && r.correct).count();
-    assert!(named >= 6, "only {named} of 8 effects named");
+    assert!(named >= 7, "only {named} of 8 effects named");
     // A wrong name is worse than a miss: no effect is ever named in place of the injected one.
     for r in &results {
         if let (Injected::Effect(k), Some(named)) = (r.injected, r.named) {

@@ -125,3 +125,58 @@ pub fn combine(
     }
     Ok(Combination { chosen, after: current, evaluations })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::simgap::gap::PartComparison;
+    use crate::diag::simgap::stats::{Group, Scale, StatInfo};
+
+    fn layout() -> Vec<StatInfo> {
+        [Group::Psd, Group::Psd, Group::Detectors]
+            .into_iter()
+            .map(|group| StatInfo {
+                statistic: "psd",
+                band: String::new(),
+                group,
+                scale: Scale::Log10,
+                unit: "",
+                x: 0.0,
+            })
+            .collect()
+    }
+
+    fn members() -> Vec<Vec<f64>> {
+        let mut state = 7u64;
+        let mut uniform = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        (0..40).map(|_| vec![uniform(), uniform(), uniform()]).collect()
+    }
+
+    fn evaluation(real: Vec<f64>) -> Evaluation {
+        let (info, m) = (layout(), members());
+        Evaluation { train: PartComparison::new(&info, real.clone(), &m), hold: PartComparison::new(&info, real, &m) }
+    }
+
+    /// Without a significant baseline gap nothing is combined, unless the effect was accepted
+    /// against its own null; a significant gap that the effect removes is accepted either way, and
+    /// an effect that leaves the gap as it was is not.
+    #[test]
+    fn the_own_null_route_opens_only_the_first_step() {
+        let quiet = evaluation(vec![0.05, -0.1, 0.0]);
+        let loud = evaluation(vec![0.05, -0.1, 5.0]);
+        assert!(!quiet.significant() && loud.significant());
+        let never = |_: &[EffectKind]| -> Result<Evaluation, SimgapError> { unreachable!("one effect only") };
+        let ranked = [(EffectKind::Warmup, &quiet)];
+        let plain = combine(&quiet, &ranked, &[], 0.25, 3, never).unwrap();
+        assert!(plain.chosen.is_empty());
+        let own = combine(&quiet, &ranked, &[EffectKind::Warmup], 0.25, 3, never).unwrap();
+        assert_eq!(own.chosen, vec![EffectKind::Warmup]);
+        let explained = combine(&loud, &ranked, &[], 0.25, 3, never).unwrap();
+        assert_eq!(explained.chosen, vec![EffectKind::Warmup]);
+        let useless = [(EffectKind::Ramp, &loud)];
+        assert!(combine(&loud, &useless, &[], 0.25, 3, never).unwrap().chosen.is_empty());
+    }
+}
