@@ -160,3 +160,58 @@ fn real_adis16405_run1_sits_on_a_grid() {
     let quantization = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "quantization").unwrap();
     assert!((quantization["params"]["step_dps"].as_f64().unwrap() - 0.005).abs() < 1e-9);
 }
+
+/// `gyrocomp sim --config` of the `adis16405` preset for 3000 s, with `extra` TOML appended.
+fn simulated(extra: &str, seed: u64) -> tempfile::NamedTempFile {
+    let preset = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/sim/adis16405.toml");
+    let mut config = tempfile::Builder::new().suffix(".toml").tempfile().unwrap();
+    write!(config, "{}\n{extra}", std::fs::read_to_string(&preset).unwrap()).unwrap();
+    config.flush().unwrap();
+    let csv = tempfile::Builder::new().suffix(".csv").tempfile().unwrap();
+    let seed = seed.to_string();
+    let out = gyrocomp(&[
+        "sim",
+        "--config",
+        config.path().to_str().unwrap(),
+        "--duration",
+        "3000",
+        "--seed",
+        &seed,
+        "-o",
+        csv.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    csv
+}
+
+/// With `--sim` the given model is the baseline: a recording made by that very model shows no
+/// significant gap, and one made by it plus a sinusoid it lacks gets the sinusoid named.
+#[test]
+fn a_given_sim_config_is_the_baseline() {
+    let preset = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/sim/adis16405.toml");
+    let preset = preset.to_str().unwrap();
+    let diagnose = |csv: &tempfile::NamedTempFile| {
+        json(&gyrocomp(&[
+            "simgap",
+            "--real",
+            csv.path().to_str().unwrap(),
+            "--sim",
+            preset,
+            "--ensemble",
+            "16",
+            "--threads",
+            "2",
+            "--json",
+        ]))
+    };
+    let same = diagnose(&simulated("", 11));
+    assert_eq!(same["verdict"], "no_significant_gap", "{same}");
+    assert_eq!(same["chosen"], serde_json::json!([]));
+    assert!(same["baseline_terms"].is_null(), "a given model is not refitted: {}", same["baseline_terms"]);
+    let line = "[[x.sinusoids]]\namplitude_dps = 0.02\nfrequency_hz = 0.05\nphase_deg = 30.0\n";
+    let with_line = diagnose(&simulated(line, 12));
+    assert_eq!(with_line["chosen"], serde_json::json!(["sinusoid"]), "{with_line}");
+    let sinusoid = with_line["effects"].as_array().unwrap().iter().find(|e| e["name"] == "sinusoid").unwrap();
+    let f = sinusoid["params"]["frequency_hz"].as_f64().unwrap();
+    assert!((f - 0.05).abs() < 1e-3, "fitted frequency {f}");
+}
