@@ -180,43 +180,65 @@ struct ModelBuilder<'a> {
     seed: u64,
 }
 
+/// The noise a model's effects are added to.
+enum Noise<'a> {
+    /// The given simulator axis (`--sim`), as it is.
+    Given(&'a AxisConfig),
+    /// The IEEE Std 952 terms refitted on the training part.
+    Fitted(NoiseTerms),
+}
+
 impl ModelBuilder<'_> {
     /// The model of the baseline plus `effects`, and the noise terms refitted without the
     /// effects' deterministic parts ([`super::refit`]).
     fn build(&self, effects: &[&FittedEffect]) -> Result<(SimModel, Option<NoiseTerms>), SimgapError> {
-        self.build_with(effects, true)
+        let noise = self.noise(effects)?;
+        let terms = match &noise {
+            Noise::Fitted(terms) => Some(*terms),
+            Noise::Given(_) => None,
+        };
+        Ok((self.model(&noise, effects), terms))
     }
 
-    /// The effect's own null ([`super::greedy`]): the noise terms refitted with the effect's
-    /// deterministic part removed, simulated without the effect. `None` with a given baseline
-    /// (nothing is refitted) and for effects without a deterministic part (their null is the
-    /// baseline).
-    fn build_own_null(&self, effect: &FittedEffect) -> Result<Option<SimModel>, SimgapError> {
-        if !matches!(self.baseline, Baseline::Fitted) || effect.training_part.is_none() {
-            return Ok(None);
-        }
-        Ok(Some(self.build_with(&[effect], false)?.0))
+    /// The model of the baseline plus `effect`, and the effect's own null ([`super::greedy`]):
+    /// the same refitted noise terms simulated without the effect (one refit serves both).
+    /// The null is `None` with a given baseline (nothing is refitted) and for effects without a
+    /// deterministic part (their null is the baseline).
+    fn build_with_own_null(&self, effect: &FittedEffect) -> Result<(SimModel, Option<SimModel>), SimgapError> {
+        let noise = self.noise(&[effect])?;
+        let own_null =
+            (matches!(noise, Noise::Fitted(_)) && effect.training_part.is_some()).then(|| self.model(&noise, &[]));
+        Ok((self.model(&noise, &[effect]), own_null))
     }
 
-    fn build_with(
-        &self,
-        effects: &[&FittedEffect],
-        add_effects: bool,
-    ) -> Result<(SimModel, Option<NoiseTerms>), SimgapError> {
-        let fs = self.train.rate_hz;
+    /// The noise of a model with `effects`: the given axis, or the terms refitted with the
+    /// effects' deterministic parts removed ([`super::refit`]).
+    fn noise(&self, effects: &[&FittedEffect]) -> Result<Noise<'_>, SimgapError> {
         match self.baseline {
-            Baseline::Given(axis) => {
-                let mut model = SimModel::from_axis(axis);
-                for e in effects.iter().filter(|_| add_effects) {
-                    e.params.apply(&mut model);
-                }
-                Ok((model, None))
-            }
+            Baseline::Given(axis) => Ok(Noise::Given(axis)),
             Baseline::Fitted => {
                 let with_gm = effects.iter().any(|e| e.params.kind() == EffectKind::GaussMarkov);
-                let mut terms = refit_noise_terms(&self.train, effects, with_gm, self.total_s, self.seed)?;
+                let terms = refit_noise_terms(&self.train, effects, with_gm, self.total_s, self.seed)?;
                 tracing::debug!("noise terms refitted with {} effect(s): {terms:?}", effects.len());
-                for e in effects.iter().filter(|_| add_effects) {
+                Ok(Noise::Fitted(terms))
+            }
+        }
+    }
+
+    /// `noise` plus `effects` as a simulator model.
+    fn model(&self, noise: &Noise<'_>, effects: &[&FittedEffect]) -> SimModel {
+        let fs = self.train.rate_hz;
+        match noise {
+            Noise::Given(axis) => {
+                let mut model = SimModel::from_axis(axis);
+                for e in effects {
+                    e.params.apply(&mut model);
+                }
+                model
+            }
+            Noise::Fitted(terms) => {
+                let mut terms = *terms;
+                for e in effects {
                     if let EffectParams::Quantization { step_dps } = e.params {
                         // A rate quantiser adds white noise of variance Δ²/12, which the fitted N
                         // already holds: take it out so it is not simulated twice.
@@ -225,10 +247,10 @@ impl ModelBuilder<'_> {
                 }
                 let bias = self.train.x.iter().sum::<f64>() / self.train.x.len() as f64;
                 let mut model = terms.to_model(fs, self.total_s, bias);
-                for e in effects.iter().filter(|e| add_effects && e.params.kind() != EffectKind::GaussMarkov) {
+                for e in effects.iter().filter(|e| e.params.kind() != EffectKind::GaussMarkov) {
                     e.params.apply(&mut model);
                 }
-                Ok((model, Some(terms)))
+                model
             }
         }
     }
@@ -292,7 +314,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     for (kind, fit) in &fitted {
         let result = match fit {
             Fitted::Found(effect) => {
-                let (model, _) = builder.build(&[effect])?;
+                let (model, own_null_model) = builder.build_with_own_null(effect)?;
                 let evaluation = evaluate(&setup, &model)?;
                 ensembles_run += 1;
                 tracing::info!(
@@ -301,7 +323,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     evaluation.train.score.gap,
                     evaluation.hold.score.gap
                 );
-                let own_null = match builder.build_own_null(effect)? {
+                let own_null = match own_null_model {
                     Some(null_model) => {
                         ensembles_run += 1;
                         Some(evaluate(&setup, &null_model)?.at_level(OWN_NULL_LEVEL))
