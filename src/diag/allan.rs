@@ -56,6 +56,35 @@ pub struct AllanDeviation {
 }
 
 impl AllanDeviation {
+    /// The deviation of a series of `samples` at `rate_hz` from its points (m, σ(τ), n): τ = m/f_s
+    /// and the simple error σ/√n (allantools `ade`). An error when there is no point.
+    pub fn from_points(
+        rate_hz: f64,
+        samples: usize,
+        points: impl IntoIterator<Item = (usize, f64, usize)>,
+    ) -> Result<AllanDeviation, AllanError> {
+        let mut out = AllanDeviation {
+            tau_s: Vec::new(),
+            m: Vec::new(),
+            adev: Vec::new(),
+            adev_err: Vec::new(),
+            n: Vec::new(),
+            rate_hz,
+            samples,
+        };
+        for (m, dev, n) in points {
+            out.tau_s.push(m as f64 / rate_hz);
+            out.m.push(m);
+            out.adev.push(dev);
+            out.adev_err.push(dev / (n as f64).sqrt());
+            out.n.push(n);
+        }
+        if out.is_empty() {
+            return Err(AllanError::TooFewSamples { samples });
+        }
+        Ok(out)
+    }
+
     /// Number of τ points.
     pub fn len(&self) -> usize {
         self.tau_s.len()
@@ -134,36 +163,22 @@ pub fn oadev(rate: &[f64], rate_hz: f64, taus: &Taus) -> Result<AllanDeviation, 
 /// [`oadev`] with the averaging factor capped at `max_m` samples (allantools `maximum_m`), which
 /// bounds the cost of [`Taus::All`] to ≈ N·max_m operations.
 pub fn oadev_with_max_m(rate: &[f64], rate_hz: f64, taus: &Taus, max_m: usize) -> Result<AllanDeviation, AllanError> {
+    let phase = checked_phase(rate, rate_hz)?;
+    let factors = averaging_factors(rate.len(), rate_hz, taus, max_m)?;
+    let points = factors.into_iter().filter_map(|m| oadev_phase_at(&phase, rate_hz, m).map(|(dev, n)| (m, dev, n)));
+    AllanDeviation::from_points(rate_hz, rate.len(), points)
+}
+
+/// The phase ([`phase_from_rate`]) of a rate series after the checks every Allan estimator makes:
+/// `rate_hz` positive and finite, every sample finite.
+pub fn checked_phase(rate: &[f64], rate_hz: f64) -> Result<Vec<f64>, AllanError> {
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(AllanError::BadRate(rate_hz));
     }
     if let Some((index, &value)) = rate.iter().enumerate().find(|(_, v)| !v.is_finite()) {
         return Err(AllanError::NonFinite { index, value });
     }
-    let samples = rate.len();
-    let factors = averaging_factors(samples, rate_hz, taus, max_m)?;
-    let phase = phase_from_rate(rate, rate_hz);
-    let mut out = AllanDeviation {
-        tau_s: Vec::new(),
-        m: Vec::new(),
-        adev: Vec::new(),
-        adev_err: Vec::new(),
-        n: Vec::new(),
-        rate_hz,
-        samples,
-    };
-    for m in factors {
-        let Some((dev, n)) = oadev_phase_at(&phase, rate_hz, m) else { continue };
-        out.tau_s.push(m as f64 / rate_hz);
-        out.m.push(m);
-        out.adev.push(dev);
-        out.adev_err.push(dev / (n as f64).sqrt());
-        out.n.push(n);
-    }
-    if out.is_empty() {
-        return Err(AllanError::TooFewSamples { samples });
-    }
-    Ok(out)
+    Ok(phase_from_rate(rate, rate_hz))
 }
 
 /// Phase (angle) from a rate series, as allantools `frequency2phase`: the mean is removed, the

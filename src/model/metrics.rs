@@ -94,10 +94,17 @@ pub fn quantile(x: &[f64], q: f64) -> Option<f64> {
     }
     let mut sorted = x.to_vec();
     sorted.sort_by(f64::total_cmp);
-    let h = (sorted.len() - 1) as f64 * q;
+    Some(quantile_sorted(&sorted, q))
+}
+
+/// [`quantile`] of values already sorted ascending (not empty), for several quantiles of one
+/// sort; `q` is clamped to [0, 1].
+pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
+    assert!(!sorted.is_empty(), "quantile of an empty sample");
+    let h = (sorted.len() - 1) as f64 * q.clamp(0.0, 1.0);
     let lo = h.floor() as usize;
     let hi = (lo + 1).min(sorted.len() - 1);
-    Some(sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo]))
+    sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
 }
 
 /// Converts an error (MAE, RMSE, a standard deviation) from normalised units to original units:
@@ -133,6 +140,15 @@ mod tests {
         let x = [2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0];
         assert!((std_dev(&x).unwrap() - (32.0f64 / 7.0).sqrt()).abs() < 1e-15);
         assert_eq!(std_dev(&[1.0]), None);
+    }
+
+    #[test]
+    fn sorted_quantiles_match_numpy_linear() {
+        // numpy.quantile([1, 2, 4, 8], [0, 0.25, 0.5, 0.975, 1]) = [1, 1.75, 3, 7.7, 8]
+        let s = [1.0, 2.0, 4.0, 8.0];
+        for (p, want) in [(0.0, 1.0), (0.25, 1.75), (0.5, 3.0), (0.975, 7.7), (1.0, 8.0)] {
+            assert!((quantile_sorted(&s, p) - want).abs() < 1e-12, "p {p}");
+        }
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! The Monte-Carlo band of every statistic and where a value sits in it.
 //!
 //! For each statistic the ensemble of simulated members gives the median, the 2.5 % and 97.5 %
-//! quantiles ([`super::robust::quantile_sorted`]; the band that "where" reports) and the standard
+//! quantiles ([`crate::model::metrics::quantile_sorted`]; the band that "where" reports) and the standard
 //! deviation s (n − 1 denominator). A value v is scored by its standard score
 //!
 //! z = (v − median) / s,
@@ -15,7 +15,7 @@
 
 use serde::Serialize;
 
-use super::robust::quantile_sorted;
+use crate::model::metrics::{quantile_sorted, std_dev};
 
 /// Lower and upper quantile of the band.
 pub const BAND: (f64, f64) = (0.025, 0.975);
@@ -39,14 +39,11 @@ impl Band {
     /// The band of `values` (not empty).
     pub fn of(values: &mut [f64]) -> Band {
         values.sort_unstable_by(f64::total_cmp);
-        let n = values.len() as f64;
-        let mean = values.iter().sum::<f64>() / n;
-        let var = values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0).max(1.0);
         Band {
             median: quantile_sorted(values, 0.5),
             lo: quantile_sorted(values, BAND.0),
             hi: quantile_sorted(values, BAND.1),
-            sd: var.sqrt(),
+            sd: std_dev(values).unwrap_or(0.0),
         }
     }
 

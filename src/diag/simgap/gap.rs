@@ -27,8 +27,8 @@
 use serde::Serialize;
 
 use super::band::{Band, bands};
-use super::robust::quantile_sorted;
 use super::stats::{Group, Scale, StatInfo};
+use crate::model::metrics::{quantile_sorted, std_dev};
 
 /// Probability that the members' T stays below the threshold (one false alarm in 100).
 pub const NULL_LEVEL: f64 = 0.99;
@@ -90,14 +90,6 @@ pub fn score(info: &[StatInfo], bands: &[Band], values: &[f64]) -> (Vec<f64>, Ga
     (z, summary)
 }
 
-/// Mean and standard deviation (n − 1) of `x`.
-fn mean_sd(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    let var = x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0).max(1.0);
-    (mean, var.sqrt())
-}
-
 /// Mean and standard deviation of one scalar over the members.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Moments {
@@ -109,8 +101,9 @@ pub struct Moments {
 
 impl Moments {
     fn of(x: &[f64]) -> Moments {
-        let (mean, sd) = mean_sd(x);
-        Moments { mean, sd }
+        // sd 0 for fewer than two values (the members do not vary).
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        Moments { mean, sd: std_dev(x).unwrap_or(0.0) }
     }
 
     /// Moments of the Wilson–Hilferty transform v^(2/3) of root-mean-square scores v (see

@@ -1,21 +1,11 @@
 //! Small order statistics and moments shared by the sim-to-real statistics and the effect fits:
-//! quantiles (NumPy's default linear interpolation), median, median absolute deviation, block
-//! means and the kurtosis.
+//! median (with [`crate::model::metrics::quantile_sorted`], NumPy's default linear interpolation),
+//! median absolute deviation, block means, the kurtosis and a least-squares line.
+
+use crate::model::metrics::quantile_sorted;
 
 /// Normal-consistency factor of the MAD: σ = 1.4826·MAD for Gaussian data (1/Φ⁻¹(3/4)).
 pub const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
-
-/// The `p`-quantile (0 ≤ p ≤ 1) of `sorted` (ascending, non-empty) by linear interpolation between
-/// order statistics: position p·(n − 1), as `numpy.quantile(..., method="linear")` (Hyndman & Fan
-/// 1996, definition 7).
-pub fn quantile_sorted(sorted: &[f64], p: f64) -> f64 {
-    assert!(!sorted.is_empty(), "quantile of an empty sample");
-    let pos = p.clamp(0.0, 1.0) * (sorted.len() - 1) as f64;
-    let lo = pos.floor() as usize;
-    let hi = (lo + 1).min(sorted.len() - 1);
-    let frac = pos - lo as f64;
-    sorted[lo] + (sorted[hi] - sorted[lo]) * frac
-}
 
 /// Median of `x` (the mean of the two middle values for an even count); NaN for an empty slice.
 pub fn median(x: &[f64]) -> f64 {
@@ -82,13 +72,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn quantiles_match_numpy_linear() {
-        // numpy.quantile([1, 2, 4, 8], [0, 0.25, 0.5, 0.975, 1]) = [1, 1.75, 3, 7.7, 8]
-        let s = [1.0, 2.0, 4.0, 8.0];
-        for (p, want) in [(0.0, 1.0), (0.25, 1.75), (0.5, 3.0), (0.975, 7.7), (1.0, 8.0)] {
-            assert!((quantile_sorted(&s, p) - want).abs() < 1e-12, "p {p}");
-        }
+    fn median_of_odd_and_even_counts() {
         assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
     }
 
     #[test]

@@ -13,7 +13,7 @@
 //! Huber & Ronchetti, *Robust Statistics*, 2nd ed., §5.
 
 use super::SimgapError;
-use crate::diag::allan::{AllanDeviation, AllanError, phase_from_rate};
+use crate::diag::allan::{AllanDeviation, checked_phase};
 
 /// Share of the squared differences kept (the smallest).
 pub const KEPT: f64 = 0.75;
@@ -25,25 +25,11 @@ pub const CHI2_1_LOWER_MEAN: f64 = 0.368_524_050_983_562_5;
 /// with at least `min_averages` independent averages (m ≤ N/min_averages). `n` and `m` are
 /// filled as by [`crate::diag::allan::oadev`], so the result feeds the same fits.
 pub fn robust_oadev(rate: &[f64], rate_hz: f64, min_averages: usize) -> Result<AllanDeviation, SimgapError> {
-    if !(rate_hz.is_finite() && rate_hz > 0.0) {
-        return Err(AllanError::BadRate(rate_hz).into());
-    }
-    if let Some((index, &value)) = rate.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(AllanError::NonFinite { index, value }.into());
-    }
-    let phase = phase_from_rate(rate, rate_hz);
-    let mut out = AllanDeviation {
-        tau_s: Vec::new(),
-        m: Vec::new(),
-        adev: Vec::new(),
-        adev_err: Vec::new(),
-        n: Vec::new(),
-        rate_hz,
-        samples: rate.len(),
-    };
+    let phase = checked_phase(rate, rate_hz)?;
     let mut squares = Vec::with_capacity(phase.len());
-    let mut m = 1;
-    while m <= rate.len() / min_averages.max(1) && phase.len() > 2 * m + 1 {
+    let octaves = std::iter::successors(Some(1usize), |m| Some(m * 2))
+        .take_while(|&m| m <= rate.len() / min_averages.max(1) && phase.len() > 2 * m + 1);
+    let points = octaves.map(|m| {
         let n = phase.len() - 2 * m;
         squares.clear();
         squares.extend((0..n).map(|i| {
@@ -56,18 +42,9 @@ pub fn robust_oadev(rate: &[f64], rate_hz: f64, min_averages: usize) -> Result<A
         }
         let lower_mean = squares[..kept].iter().sum::<f64>() / kept as f64;
         let avar = lower_mean / CHI2_1_LOWER_MEAN / (2.0 * (m as f64 / rate_hz).powi(2));
-        let adev = avar.sqrt();
-        out.tau_s.push(m as f64 / rate_hz);
-        out.m.push(m);
-        out.adev.push(adev);
-        out.adev_err.push(adev / (n as f64).sqrt());
-        out.n.push(n);
-        m *= 2;
-    }
-    if out.is_empty() {
-        return Err(AllanError::TooFewSamples { samples: rate.len() }.into());
-    }
-    Ok(out)
+        (m, avar.sqrt(), n)
+    });
+    Ok(AllanDeviation::from_points(rate_hz, rate.len(), points)?)
 }
 
 #[cfg(test)]
