@@ -306,6 +306,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         setup.perturbations = bootstrap(terms, rate_hz, n_train, builder.total_s, settings.ensemble, settings.seed)?;
     }
     let before = evaluate(&setup, &baseline_model)?;
+    // Every model built, by its effects in the order added, so the final one is not refitted again.
+    let mut built: Vec<(Vec<EffectKind>, SimModel)> = vec![(Vec::new(), baseline_model.clone())];
     let mut ensembles_run = 1;
     tracing::info!("baseline: gap {:.3} (training), {:.3} (hold-out)", before.train.score.gap, before.hold.score.gap);
 
@@ -316,6 +318,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
             Fitted::Found(effect) => {
                 let (model, own_null_model) = builder.build_with_own_null(effect)?;
                 let evaluation = evaluate(&setup, &model)?;
+                built.push((vec![*kind], model));
                 ensembles_run += 1;
                 tracing::info!(
                     "{}: gap {:.3} (training), {:.3} (hold-out)",
@@ -378,7 +381,9 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     let combination = combine(&before, &ranked, &own_null, settings.min_share, settings.max_effects, |set| {
         let parts: Vec<&FittedEffect> = set.iter().filter_map(|&k| found(k)).collect();
         let (model, _) = builder.build(&parts)?;
-        evaluate(&setup, &model)
+        let evaluation = evaluate(&setup, &model);
+        built.push((set.to_vec(), model));
+        evaluation
     })?;
     ensembles_run += combination.evaluations;
     let tried = combination.chosen;
@@ -393,8 +398,10 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     };
     let chosen =
         if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) { tried.clone() } else { Vec::new() };
-    let chosen_parts: Vec<&FittedEffect> = tried.iter().filter_map(|&k| found(k)).collect();
-    let (after_model, _) = builder.build(&chosen_parts)?;
+    let after_model = match built.into_iter().find(|(set, _)| *set == tried) {
+        Some((_, model)) => model,
+        None => builder.build(&tried.iter().filter_map(|&k| found(k)).collect::<Vec<_>>())?.0,
+    };
     let Setup { layout_train, layout_hold, .. } = setup;
     Ok(Diagnosis {
         rate_hz,
