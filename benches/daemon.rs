@@ -28,8 +28,8 @@ fn sample(seq: u64) -> RawSample {
 
 fn roundtrip(c: &mut Criterion, mode: WaitMode, label: &str) {
     let domain = IpcDomain::unique("dbench").expect("private domain");
-    let mut config = Config::default();
-    config.input.rate_hz = 1000.0;
+    let mut config = Config::paper();
+    config.input.rate_hz = gyrocomp::config::RateSetting::Hz(1000.0);
     // Live retraining as in production (never waits), but every 2 s instead of 60 s so that the
     // warm-up gets a model: fixed-size LS-SVM (100 prototypes) on a 1000-sample window.
     (config.retrain.mode, config.retrain.interval_s) = ("live".into(), 2.0);

@@ -9,7 +9,11 @@
 //! After criterion, a plain loop times 200,000 single `process` calls and prints p50/p99/p99.9
 //! per sample and per sample per axis (criterion reports means and medians only).
 //!
-//! Run: `cargo bench --bench pipeline`. The issue's target is ≤ 5 µs p99 per sample per axis.
+//! `process_3axes_default_kalman_statistical` is the default path (issue 13: Kalman tracker behind
+//! the statistical detector); the same p50/p99 loop runs for it.
+//!
+//! Run: `cargo bench --bench pipeline`. Targets: ≤ 5 µs p99 per sample per axis (CPSO-LSSVM),
+//! ≤ 2 µs for the default path.
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -29,22 +33,26 @@ struct Setup {
     rates: Vec<[f64; 3]>,
     fitted: Pipeline,
     bare: Pipeline,
+    /// The default path: Kalman tracker behind the statistical detector, rate from timestamps.
+    default: Pipeline,
     next: u64,
 }
 
 fn setup() -> Setup {
-    let mut c = Config::default();
-    c.input.rate_hz = 10.0;
+    let mut c = Config::paper();
+    c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
     assert_eq!(c.retrain.window, 4000);
     let out = Generator::generate(&Preset::Paper.config(), 1).unwrap();
     let rates: Vec<[f64; 3]> = (0..out.len()).map(|k| std::array::from_fn(|a| out.axes[a].raw[k])).collect();
     let mut fitted = Pipeline::new(c.pipeline().unwrap()).unwrap();
     let mut bare = Pipeline::new(c.pipeline().unwrap()).unwrap();
+    let mut default = Pipeline::new(Config::default().pipeline().unwrap()).unwrap();
     let warm = 5000;
     for (k, r) in rates[..warm].iter().enumerate() {
         let s = InputSample::new(k as u64, k as u64 * PERIOD_NS, *r);
         fitted.process(&s);
         bare.process(&s);
+        default.process(&s);
     }
     let fit = c.cpso_lssvm().unwrap();
     let started = Instant::now();
@@ -63,7 +71,7 @@ fn setup() -> Setup {
         fitted.install_model(axis, Arc::new(model), scaler, 1).unwrap();
     }
     eprintln!("three CPSO-LSSVM fits: {:.2} s", started.elapsed().as_secs_f64());
-    Setup { rates, fitted, bare, next: warm as u64 }
+    Setup { rates, fitted, bare, default, next: warm as u64 }
 }
 
 impl Setup {
@@ -104,6 +112,12 @@ fn bench(c: &mut Criterion) {
             s.fitted.process(black_box(&x))
         })
     });
+    group.bench_function("process_3axes_default_kalman_statistical", |b| {
+        b.iter(|| {
+            let x = s.sample();
+            s.default.process(black_box(&x))
+        })
+    });
     group.bench_function("process_3axes_no_model", |b| {
         b.iter(|| {
             let x = s.sample();
@@ -114,24 +128,27 @@ fn bench(c: &mut Criterion) {
     assert_eq!(s.fitted.model_version(), 1);
 
     let n = 200_000;
-    let mut times = Vec::with_capacity(n);
-    for _ in 0..n {
-        let x = s.sample();
-        let t0 = Instant::now();
-        black_box(s.fitted.process(black_box(&x)));
-        times.push(t0.elapsed().as_nanos() as f64);
+    for (name, default_path) in [("CPSO-LSSVM w4000", false), ("default: Kalman + statistical detector", true)] {
+        let mut times = Vec::with_capacity(n);
+        for _ in 0..n {
+            let x = s.sample();
+            let p = if default_path { &mut s.default } else { &mut s.fitted };
+            let t0 = Instant::now();
+            black_box(p.process(black_box(&x)));
+            times.push(t0.elapsed().as_nanos() as f64);
+        }
+        times.sort_by(f64::total_cmp);
+        let q = |p: f64| times[((p * n as f64) as usize).min(n - 1)];
+        eprintln!(
+            "process (3 axes, {name}) over {n} samples: p50 {:.2} µs, p99 {:.2} µs, p99.9 {:.2} µs per sample; \
+             per sample per axis p50 {:.2} µs, p99 {:.2} µs",
+            q(0.5) / 1e3,
+            q(0.99) / 1e3,
+            q(0.999) / 1e3,
+            q(0.5) / 3e3,
+            q(0.99) / 3e3
+        );
     }
-    times.sort_by(f64::total_cmp);
-    let q = |p: f64| times[((p * n as f64) as usize).min(n - 1)];
-    eprintln!(
-        "process (3 axes, CPSO-LSSVM w4000) over {n} samples: p50 {:.2} µs, p99 {:.2} µs, p99.9 {:.2} µs per sample; \
-         per sample per axis p50 {:.2} µs, p99 {:.2} µs",
-        q(0.5) / 1e3,
-        q(0.99) / 1e3,
-        q(0.999) / 1e3,
-        q(0.5) / 3e3,
-        q(0.99) / 3e3
-    );
 }
 
 criterion_group!(benches, bench);

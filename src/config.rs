@@ -11,7 +11,10 @@ use serde::Deserialize;
 use crate::model::cpso::CpsoConfig;
 use crate::model::lssvm::CpsoLssvm;
 use crate::stream::ipc::{Delivery, IpcSettings, ServiceNames, WaitMode};
-use crate::stream::{CausalConfig, Embedding, InputConfig, MotionConfig, PipelineConfig, RetrainMode, RetrainSchedule};
+use crate::stream::{
+    CausalConfig, DetectorKind, DriftConfig, Embedding, EstimatorKind, InputConfig, MotionConfig, PipelineConfig,
+    RetrainMode, RetrainSchedule, StatisticalConfig,
+};
 use crate::wavelet::{DenoiseConfig, Wavelet};
 
 /// Default causal window (samples): see the trade-off table in the README.
@@ -37,7 +40,9 @@ pub struct Config {
     pub embedding: EmbeddingSection,
     /// `[pipeline]`: per-sample compensation.
     pub pipeline: PipelineSection,
-    /// `[motion]`: motion gate thresholds.
+    /// `[drift]`: the drift estimator.
+    pub drift: DriftSection,
+    /// `[motion]`: the static/moving detector.
     pub motion: MotionSection,
     /// `[input]`: input validation and gap detection.
     pub input: InputSection,
@@ -148,21 +153,88 @@ impl Default for PipelineSection {
     }
 }
 
+/// `[drift]` keys.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DriftSection {
+    /// `kalman`, `cpso-lssvm` or `bias-hold`.
+    pub estimator: EstimatorKind,
+    /// Kalman innovation gate: χ²(1) tail probability.
+    pub innovation_gate: f64,
+    /// bias-hold: start-up seconds averaged.
+    pub startup_s: f64,
+}
+
+impl Default for DriftSection {
+    fn default() -> Self {
+        let d = DriftConfig::default();
+        Self { estimator: d.kind, innovation_gate: d.innovation_gate, startup_s: d.startup_s }
+    }
+}
+
 /// `[motion]` keys.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MotionSection {
-    /// |rate| above which a sample is moving, deg/s.
+    /// `statistical` or `threshold`.
+    pub detector: DetectorKind,
+    /// statistical: false-alarm probability of each test.
+    pub false_alarm: f64,
+    /// statistical: mean-shift windows, s.
+    pub windows_s: Vec<f64>,
+    /// statistical: variance-test window, s.
+    pub variance_window_s: f64,
+    /// statistical: hysteresis after the last alarm, s.
+    pub settle_s: f64,
+    /// statistical: extra look-back discarded before an onset, s.
+    pub guard_s: f64,
+    /// threshold: |rate − drift| above which a sample is moving, deg/s.
     pub rate_dps: f64,
-    /// Short-window variance above which a sample is moving, (deg/s)².
+    /// threshold: short-window variance above which a sample is moving, (deg/s)².
     pub variance_dps2: f64,
-    /// Samples in the variance window.
+    /// threshold: samples in the variance window.
     pub window: usize,
 }
 
 impl Default for MotionSection {
     fn default() -> Self {
-        Self { rate_dps: 2.0, variance_dps2: 0.6, window: 20 }
+        let s = StatisticalConfig::default();
+        Self {
+            detector: DetectorKind::Statistical,
+            false_alarm: s.false_alarm,
+            windows_s: s.windows_s,
+            variance_window_s: s.variance_window_s,
+            settle_s: s.settle_s,
+            guard_s: s.guard_s,
+            rate_dps: 2.0,
+            variance_dps2: 0.6,
+            window: 20,
+        }
+    }
+}
+
+/// `[input] rate_hz`: a nominal rate in Hz, or `"auto"` (measured from the first timestamps).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RateSetting {
+    /// Measured: the median of the first timestamp steps.
+    Auto,
+    /// Given, Hz.
+    Hz(f64),
+}
+
+impl<'de> Deserialize<'de> for RateSetting {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Number(f64),
+            Word(String),
+        }
+        match Raw::deserialize(d)? {
+            Raw::Number(hz) => Ok(Self::Hz(hz)),
+            Raw::Word(w) if w == "auto" => Ok(Self::Auto),
+            Raw::Word(w) => Err(serde::de::Error::custom(format!("input.rate_hz: {w:?} is neither a number nor \"auto\""))),
+        }
     }
 }
 
@@ -172,8 +244,8 @@ impl Default for MotionSection {
 pub struct InputSection {
     /// Largest accepted |rate|, deg/s.
     pub range_dps: f64,
-    /// Nominal sample rate, Hz.
-    pub rate_hz: f64,
+    /// Nominal sample rate, Hz, or measured.
+    pub rate_hz: RateSetting,
     /// A timestamp step above this many nominal periods is a gap.
     pub gap_factor: f64,
     /// Spike threshold in σ of the recent static samples (0 = off).
@@ -184,7 +256,7 @@ pub struct InputSection {
 
 impl Default for InputSection {
     fn default() -> Self {
-        Self { range_dps: 2000.0, rate_hz: 100.0, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3 }
+        Self { range_dps: 2000.0, rate_hz: RateSetting::Auto, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3 }
     }
 }
 
@@ -294,6 +366,18 @@ impl fmt::Display for ConfigError {
 impl std::error::Error for ConfigError {}
 
 impl Config {
+    /// The paper's method as the pipeline ran it before the drift-estimator seam: CPSO-LSSVM
+    /// forecaster, fixed-threshold gate, 100 Hz nominal rate; everything else default. What the
+    /// tests of the model machinery (retraining, snapshots, the one-pipeline property with models)
+    /// run on.
+    pub fn paper() -> Self {
+        let mut c = Self::default();
+        c.drift.estimator = EstimatorKind::CpsoLssvm;
+        c.motion.detector = DetectorKind::Threshold;
+        c.input.rate_hz = RateSetting::Hz(100.0);
+        c
+    }
+
     /// Parses TOML text (`origin` names it in messages) and validates every value.
     pub fn from_toml(text: &str, origin: &str) -> Result<Self, ConfigError> {
         let config: Self = toml::from_str(text).map_err(|e| ConfigError(format!("{origin}: {e}")))?;
@@ -432,6 +516,19 @@ impl Config {
             return err("pipeline.bias_samples must be at least 1".into());
         }
         let m = &self.motion;
+        let statistical = StatisticalConfig {
+            false_alarm: m.false_alarm,
+            windows_s: m.windows_s.clone(),
+            variance_window_s: m.variance_window_s,
+            settle_s: m.settle_s,
+            guard_s: m.guard_s,
+        };
+        statistical.validate().map_err(ConfigError)?;
+        let d = &self.drift;
+        if !(d.innovation_gate > 0.0 && d.innovation_gate < 0.5) {
+            return err(format!("drift.innovation_gate: {} must lie in (0, 0.5)", d.innovation_gate));
+        }
+        positive("drift.startup_s", d.startup_s)?;
         positive("motion.rate_dps", m.rate_dps)?;
         positive("motion.variance_dps2", m.variance_dps2)?;
         if m.window < 2 {
@@ -439,7 +536,13 @@ impl Config {
         }
         let i = &self.input;
         positive("input.range_dps", i.range_dps)?;
-        positive("input.rate_hz", i.rate_hz)?;
+        let period_ns = match i.rate_hz {
+            RateSetting::Auto => 0,
+            RateSetting::Hz(hz) => {
+                positive("input.rate_hz", hz)?;
+                (1e9 / hz).round().max(1.0) as u64
+            }
+        };
         if !(i.gap_factor > 1.0 && i.gap_factor.is_finite()) {
             return err(format!("input.gap_factor: {} must be finite and above 1", i.gap_factor));
         }
@@ -476,9 +579,12 @@ impl Config {
             embedding,
             bias_samples: self.pipeline.bias_samples,
             motion: MotionConfig { rate_dps: m.rate_dps, variance_dps2: m.variance_dps2, window: m.window },
+            detector: m.detector,
+            statistical,
+            drift: DriftConfig { kind: d.estimator, innovation_gate: d.innovation_gate, startup_s: d.startup_s },
             input: InputConfig {
                 range_dps: i.range_dps,
-                period_ns: (1e9 / i.rate_hz).round().max(1.0) as u64,
+                period_ns,
                 gap_factor: i.gap_factor,
                 spike_z: i.spike_z,
                 spike_max_run: i.spike_max_run,
@@ -569,9 +675,12 @@ mod tests {
         let text = include_str!("../configs/adis16405_10hz.toml");
         let c = Config::from_toml(text, "configs/adis16405_10hz.toml").unwrap();
         c.pipeline().unwrap();
-        assert_eq!((c.input.rate_hz, c.motion.rate_dps, c.motion.variance_dps2), (10.0, 1.0, 0.05));
+        assert_eq!((c.input.rate_hz, c.motion.rate_dps, c.motion.variance_dps2), (RateSetting::Hz(10.0), 1.0, 0.05));
         let mut expected = Config::default();
-        (expected.input.rate_hz, expected.motion.rate_dps, expected.motion.variance_dps2) = (10.0, 1.0, 0.05);
+        (expected.input.rate_hz, expected.motion.rate_dps, expected.motion.variance_dps2) =
+            (RateSetting::Hz(10.0), 1.0, 0.05);
+        expected.motion.detector = DetectorKind::Threshold;
+        expected.drift.estimator = EstimatorKind::CpsoLssvm;
         assert_eq!(c, expected);
     }
 
@@ -602,6 +711,13 @@ mod tests {
             ("[input]\ngap_factor = 0.5\n", "input.gap_factor"),
             ("[input]\nspike_z = 1.5\n", "input.spike_z"),
             ("[input]\nrate_hz = 0.0\n", "input.rate_hz"),
+            ("[input]\nrate_hz = \"fast\"\n", "input.rate_hz"),
+            ("[drift]\nestimator = \"lstm\"\n", "estimator"),
+            ("[drift]\ninnovation_gate = 0.0\n", "drift.innovation_gate"),
+            ("[motion]\ndetector = \"magic\"\n", "detector"),
+            ("[motion]\nfalse_alarm = 0.9\n", "motion.false_alarm"),
+            ("[motion]\nwindows_s = [2.0, 1.0]\n", "motion.windows_s"),
+            ("[motion]\nsettle_s = -1.0\n", "motion.settle_s"),
             ("[pipeline]\nbias_samples = 0\n", "pipeline.bias_samples"),
             ("[retrain]\nwindw = 4000\n", "windw"),
             ("[ipc]\nwait = \"sleep\"\n", "ipc.wait"),

@@ -14,7 +14,7 @@ mod common;
 /// A quick configuration at 10 Hz with `retrain.mode = "live"` on purpose: compensate must still
 /// retrain deterministically.
 fn config_text() -> String {
-    format!("[input]\nrate_hz = 10.0\n{}mode = \"live\"\n", common::QUICK_RETRAIN)
+    format!("{}[input]\nrate_hz = 10.0\n{}mode = \"live\"\n", common::PAPER_PIPELINE, common::QUICK_RETRAIN)
 }
 
 fn gyrocomp(args: &[&str]) -> Output {

@@ -11,8 +11,18 @@ use serde_json::Value;
 
 mod common;
 
-const NAMES: [&str; 8] =
-    ["gyrocomp", "gyrocomp-flagged", "bias-hold", "persistence", "ar", "highpass", "persistence-gated", "ar-gated"];
+const NAMES: [&str; 10] = [
+    "gyrocomp",
+    "gyrocomp-flagged",
+    "bias-hold",
+    "last-static",
+    "cpso-lssvm",
+    "persistence",
+    "ar",
+    "highpass",
+    "persistence-gated",
+    "ar-gated",
+];
 
 fn gyrocomp(args: &[&str]) -> Output {
     let out = Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().unwrap();

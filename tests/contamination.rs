@@ -58,8 +58,8 @@ fn pipeline(config: &Config) -> Pipeline {
 }
 
 fn config() -> Config {
-    let mut c = Config::default();
-    c.input.rate_hz = RATE_HZ;
+    let mut c = Config::paper();
+    c.input.rate_hz = gyrocomp::config::RateSetting::Hz(RATE_HZ);
     c.retrain.mode = "deterministic".into();
     c.retrain.window = 1500;
     c.retrain.min_samples = 500;

@@ -82,7 +82,8 @@ fn config_text(domain: &IpcDomain, motion_rate_dps: f64, wait: &str) -> String {
     let root = domain.root_path();
     format!(
         "[denoise]\nwindow = 64\n\
-         [motion]\nrate_dps = {motion_rate_dps:?}\n\
+         [drift]\nestimator = \"cpso-lssvm\"\n\
+         [motion]\ndetector = \"threshold\"\nrate_dps = {motion_rate_dps:?}\n\
          [input]\nrate_hz = 10.0\n\
          [retrain]\nmode = \"deterministic\"\nwindow = 150\nmin_samples = 100\nevery_samples = {EVERY}\n\
          apply_delay_samples = {DELAY}\nexact_max_rows = 200\nprototypes = 20\n\

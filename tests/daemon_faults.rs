@@ -56,6 +56,7 @@ impl Setup {
             if retrain_heavy { (250, 24, 12, 12) } else { (250, 2, 1, 1) };
         let text = format!(
             "[denoise]\nwindow = 64\n\
+             [drift]\nestimator = \"cpso-lssvm\"\n[motion]\ndetector = \"threshold\"\n\
              [input]\nrate_hz = 100.0\ngap_factor = 1000.0\n\
              [retrain]\nmode = \"deterministic\"\nwindow = {window}\nmin_samples = 150\nevery_samples = {EVERY}\n\
              apply_delay_samples = {DELAY}\nexact_max_rows = 300\nprototypes = 20\n\

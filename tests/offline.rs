@@ -34,8 +34,8 @@ fn simulated(dir: &Path, n: usize, seed: u64) -> PathBuf {
 
 /// A quick configuration: short windows, a small CPSO, retraining every 1000 samples.
 fn config(mode: &str) -> Config {
-    let mut c = Config::default();
-    c.input.rate_hz = 10.0;
+    let mut c = Config::paper();
+    c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
     c.retrain.mode = mode.into();
     c.retrain.window = 600;
     c.retrain.min_samples = 300;

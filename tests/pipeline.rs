@@ -19,8 +19,8 @@ const PERIOD_NS: u64 = 100_000_000; // 10 Hz
 
 /// Pipeline settings for the 10 Hz paper preset with a short training window.
 fn config() -> PipelineConfig {
-    let mut c = Config::default();
-    c.input.rate_hz = 10.0;
+    let mut c = Config::paper();
+    c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
     c.retrain.window = 600;
     c.retrain.min_samples = 300;
     c.retrain.mode = "deterministic".into();
@@ -323,7 +323,7 @@ fn cpso_lssvm_retrainer_installs_a_fixed_size_model() {
     cfg.retrain.window = 1500; // fixed-size LS-SVM path (> exact_max_rows after embedding)
     cfg.retrain.every_samples = 2000;
     cfg.retrain.min_samples = 1500;
-    let mut c = Config::default();
+    let mut c = Config::paper();
     c.retrain.exact_max_rows = 1000;
     c.retrain.cpso_candidates = 6;
     c.retrain.cpso_particles = 3;
@@ -349,8 +349,8 @@ fn print_drift_error_against_the_truth() {
     sim.duration_s = n as f64 / sim.rate_hz;
     let truth = Generator::generate(&sim, 21).unwrap();
     let input = samples(n, 21);
-    let mut c = Config::default();
-    c.input.rate_hz = 10.0;
+    let mut c = Config::paper();
+    c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
     c.retrain.mode = "deterministic".into();
     c.retrain.every_samples = 3000;
     c.retrain.apply_delay_samples = 100;

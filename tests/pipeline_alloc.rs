@@ -42,8 +42,8 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn no_allocation_per_sample() {
-    let mut c = Config::default();
-    c.input.rate_hz = 10.0;
+    let mut c = Config::paper();
+    c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
     c.retrain.window = 1500;
     c.retrain.cpso_candidates = 6;
     c.retrain.cpso_particles = 3;
@@ -98,4 +98,46 @@ fn no_allocation_per_sample() {
     assert!(s.moving > 0 && s.rejected > 0 && s.gaps > 0, "{s:?}");
     let i = s.input;
     assert!(i.invalid > 0 && i.spikes > 0 && i.duplicates > 0 && i.seq_skipped > 0, "{i:?}");
+}
+
+/// The default path (Kalman tracker, statistical detector, rate from the timestamps): after the
+/// period is measured and the windows sized (one allocation, within the first ten samples), no
+/// sample allocates — static, flagged, rejected, detected motion or a gap.
+#[test]
+fn no_allocation_per_sample_on_the_default_path() {
+    let mut p = Pipeline::new(Config::default().pipeline().unwrap()).unwrap();
+    let mut sim = Preset::Adis16405.config();
+    sim.duration_s = 1500.0;
+    let out = Generator::generate(&sim, 3).unwrap();
+    let n = out.len();
+    let input: Vec<InputSample> = (0..n)
+        .map(|k| {
+            let mut s = InputSample::new(k as u64, k as u64 * 100_000_000, std::array::from_fn(|a| out.axes[a].raw[k]));
+            match k % 2000 {
+                100..=149 => s.flags |= FLAG_MOVING,
+                300 => s.rate_dps[1] = f64::NAN,
+                // A 20 s turn the detector has to find.
+                700..=899 => s.rate_dps[0] += 30.0 * (std::f64::consts::PI * (k % 2000 - 700) as f64 / 200.0).sin(),
+                1600 => s.seq -= 1,
+                _ => {}
+            }
+            s
+        })
+        .collect();
+    let warm = 50;
+    for s in &input[..warm] {
+        p.process(s);
+    }
+    assert_eq!(p.period_s(), Some(0.1));
+    COUNTING.with(|c| c.set(true));
+    let gap = InputSample::new(n as u64 + 5, input[n - 1].t_ns + 1_000_000_000_000, [0.0; 3]);
+    for s in &input[warm..] {
+        p.process(s);
+    }
+    p.process(&gap);
+    COUNTING.with(|c| c.set(false));
+    let allocs = ALLOCS.with(|a| a.replace(0));
+    assert_eq!(allocs, 0, "{allocs} allocations over {} samples", n - warm);
+    let s = p.stats();
+    assert!(s.moving > 0 && s.rejected > 0 && s.gaps > 0 && s.committed > 0 && s.detector.onsets > 0, "{s:?}");
 }

@@ -13,6 +13,7 @@ use super::CliError;
 use super::input::load_config;
 use super::progress::Progress;
 use crate::io::{CompensatedCsvWriter, Recording};
+use crate::config::RateSetting;
 use crate::model::metrics::std_dev;
 use crate::stream::{STATUS_MOVING, STATUS_REJECTED, compensate_recording};
 
@@ -76,7 +77,9 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
     let config = load_config(args.config.as_deref())?;
     let columns: Vec<&str> = args.columns.iter().map(String::as_str).collect();
     let rec = Recording::load(&args.input, &columns, args.moving_column.as_deref())?;
-    warn_on_rate_mismatch(&rec, config.input.rate_hz, config.input.gap_factor);
+    if let RateSetting::Hz(hz) = config.input.rate_hz {
+        warn_on_rate_mismatch(&rec, hz, config.input.gap_factor);
+    }
     let write_err = |e: std::io::Error| format!("{}: cannot write: {e}", args.output.display());
     let mut writer = CompensatedCsvWriter::create(&args.output, &rec).map_err(write_err)?;
     let axes = rec.columns().len();

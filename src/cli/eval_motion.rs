@@ -17,6 +17,7 @@ use super::eval::{EvalArgs, parse_models};
 use super::input::load_config;
 use super::progress::Progress;
 use crate::eval::motion::MotionScores;
+use crate::model::metrics::quantile;
 use crate::eval::{BaselineSettings, MotionModel, MotionRun, run_motion_model};
 use crate::io::{ReadOptions, Recording, read_table};
 
@@ -36,6 +37,14 @@ struct DataInfo {
     moving_samples: usize,
     startup_s: f64,
     highpass_hz: f64,
+    /// Angle random walk of the sensor series (raw − truth), deg/√s, from its Allan fit.
+    arw_n_deg_rt_s: Option<f64>,
+    /// Median over the motion segments of the white-noise floor 0.674·N·√T, deg.
+    white_floor_deg_median: Option<f64>,
+    /// Each segment's length, s.
+    segment_s: Vec<f64>,
+    /// Each segment's white-noise floor, deg.
+    white_floor_deg_segments: Vec<f64>,
 }
 
 /// One row of the JSON output.
@@ -51,7 +60,7 @@ struct ModelRow {
 /// Runs the motion-injected protocol.
 pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     let kinds = parse_models::<MotionModel>(args.models.as_deref())?.unwrap_or_else(|| MotionModel::ALL.to_vec());
-    let mut config = load_config(args.config.as_deref())?;
+    let config = load_config(args.config.as_deref())?;
     // Finite rates and truth, with line-exact errors; the flags checked to be 0/1 the same way.
     let mut table = read_table(&args.input, &[&args.column, TRUTH_COLUMN], ReadOptions::default())?;
     let mut rec = Recording::load(&args.input, &[&args.column], Some(MOVING_COLUMN))?;
@@ -59,8 +68,6 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     let truth = table.columns.pop().unwrap_or_default();
     let raw = table.columns.pop().unwrap_or_default();
     let run = MotionRun::new(table.t_s, raw, truth, &moving)?;
-    config.input.rate_hz = run.rate_hz();
-    config.validate().map_err(|e| format!("{}: input.rate_hz from the recording: {e}", args.input.display()))?;
     let inputs: Vec<_> = rec.inputs().collect();
     let baselines = BaselineSettings { startup_s: args.startup_s, highpass_hz: args.highpass_hz };
 
@@ -74,7 +81,13 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         let scores = run.score(&out.compensated)?;
         rows.push(ModelRow { name: kind, scores, detail: out.detail, seconds: started.elapsed().as_secs_f64() });
     }
+    let arw = run.sensor_arw();
+    let floor = arw.map(|n| run.white_noise_floor(n)).unwrap_or_default();
     let info = DataInfo {
+        arw_n_deg_rt_s: arw,
+        white_floor_deg_median: quantile(&floor, 0.5),
+        segment_s: run.segment_durations(),
+        white_floor_deg_segments: floor,
         input: args.input.display().to_string(),
         column: args.column.clone(),
         samples: run.len(),
@@ -98,6 +111,11 @@ fn print_table(info: &DataInfo, rows: &[ModelRow]) {
         info.samples, info.column, info.rate_hz, info.segments, info.moving_samples
     );
     println!("Angle error = |∫(compensated − truth)dt| per motion segment (median, p95, max) and over the run.");
+    if let (Some(n), Some(f)) = (info.arw_n_deg_rt_s, info.white_floor_deg_median) {
+        println!(
+            "White-noise floor per motion, 0.674·N·√T: median {f:.4} deg (N = {n:.4e} deg/√s from the Allan fit of raw − truth)."
+        );
+    }
     println!();
     println!(
         "{:<18} {:>13} {:>12} {:>12} {:>12} {:>12} {:>8}  detail",

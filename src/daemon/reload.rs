@@ -59,7 +59,7 @@ mod tests {
 
     #[test]
     fn reloadable_keys_apply_and_the_rest_is_reported() {
-        let running = Config::default();
+        let running = Config::paper();
         let mut pipeline = Pipeline::new(running.pipeline().unwrap()).unwrap();
         let mut new = running.clone();
         new.motion.rate_dps = 3.0;

@@ -80,6 +80,9 @@ pub struct MotionScores {
     pub angle_err_deg_max: Option<f64>,
     /// |∫(compensated − truth)dt| over the whole run, deg.
     pub angle_err_deg_run: f64,
+    /// |∫(compensated − truth)dt| of each motion segment, in order, deg (for pooling across
+    /// recordings).
+    pub angle_err_deg_segments: Vec<f64>,
 }
 
 /// The start-up bias-hold baseline of a run.
@@ -198,7 +201,65 @@ impl MotionRun {
             angle_err_deg_p95: quantile(&per_segment, 0.95),
             angle_err_deg_max: per_segment.iter().copied().reduce(f64::max),
             angle_err_deg_run: self.angle_error(compensated, 0..self.len()).abs(),
+            angle_err_deg_segments: per_segment,
         })
+    }
+
+    /// Length of each motion segment, s (Σ Δt over its samples).
+    pub fn segment_durations(&self) -> Vec<f64> {
+        self.segments.iter().map(|s| self.dt[s.clone()].iter().sum()).collect()
+    }
+
+    /// The sensor's own static series, raw − truth (the recording before the motion was added).
+    pub fn sensor_error(&self) -> Vec<f64> {
+        self.raw.iter().zip(&self.truth).map(|(r, m)| r - m).collect()
+    }
+
+    /// N of the sensor's own static series (raw − truth), deg/√s: the IEEE Std 952 fit of its
+    /// octave Allan deviation (`crate::diag`); `None` when the fit fails (a constant series).
+    pub fn sensor_arw(&self) -> Option<f64> {
+        use crate::diag::allan::{Taus, oadev_with_max_m};
+        use crate::diag::noise_fit::{Weighting, fit_allan};
+        let allan = oadev_with_max_m(&self.sensor_error(), self.rate_hz(), &Taus::Octave, usize::MAX).ok()?;
+        let fit = fit_allan(&allan.octave_points(), Weighting::default()).ok()?;
+        (fit.model.n > 0.0).then_some(fit.model.n)
+    }
+
+    /// The white-noise floor of each motion segment, deg: the median of |∫ white noise dt| over a
+    /// segment of length T is 0.674·N·√T (0.674 = Φ⁻¹(0.75), the median of |Z|), N the angle
+    /// random walk in deg/√s. No drift model can remove it.
+    pub fn white_noise_floor(&self, n_deg_rt_s: f64) -> Vec<f64> {
+        const MEDIAN_ABS_NORMAL: f64 = 0.674_489_750_196_081_7;
+        self.segment_durations().iter().map(|&t| MEDIAN_ABS_NORMAL * n_deg_rt_s * t.sqrt()).collect()
+    }
+
+    /// The `last-static` (zero-rate update) reference: each sample minus the mean of the last
+    /// `window_s` seconds' worth of samples (round(window_s · rate) samples) flagged static before
+    /// it, with the file's flags — what an INS does that stops, knows it, and re-levels its gyro
+    /// bias. Before the first static sample nothing is subtracted.
+    pub fn last_static(&self, moving: &[bool], window_s: f64) -> Result<Vec<f64>, MotionError> {
+        if !(window_s > 0.0 && window_s.is_finite()) {
+            return Err(MotionError::Invalid(format!("last-static window {window_s} s must be positive and finite")));
+        }
+        if moving.len() != self.len() {
+            return Err(MotionError::Lengths(format!("{} flags for a run of {} samples", moving.len(), self.len())));
+        }
+        let w = ((window_s * self.rate_hz()).round() as usize).max(1);
+        let mut window = std::collections::VecDeque::with_capacity(w + 1);
+        let mut sum = 0.0;
+        let mut out = Vec::with_capacity(self.len());
+        for (i, &raw) in self.raw.iter().enumerate() {
+            let bias = if window.is_empty() { 0.0 } else { sum / window.len() as f64 };
+            out.push(raw - bias);
+            if !moving[i] {
+                window.push_back(raw);
+                sum += raw;
+                if window.len() > w {
+                    sum -= window.pop_front().unwrap_or(0.0);
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// The start-up bias-hold baseline: raw minus the mean of the samples less than `startup_s`
@@ -284,6 +345,21 @@ mod tests {
         let early = run(raw.clone(), vec![0.0; 6], &[false, false, true, true, false, false]);
         assert_eq!(early.bias_hold(60.0).unwrap().samples, 2);
         assert!(run(raw, vec![0.0; 6], &[true; 6]).bias_hold(60.0).is_err());
+    }
+
+    #[test]
+    fn last_static_subtracts_the_mean_of_the_last_static_window_and_the_floor_grows_as_sqrt_t() {
+        // 0.5 s steps (2 Hz): a 1 s window holds the last two static samples.
+        let raw = vec![1.0, 3.0, 10.0, 10.0, 5.0, 7.0];
+        let moving = [false, false, true, true, false, false];
+        let r = run(raw, vec![0.0; 6], &moving);
+        let c = r.last_static(&moving, 1.0).unwrap();
+        assert_eq!(c, vec![1.0, 2.0, 8.0, 8.0, 3.0, 3.0]);
+        assert!(r.last_static(&moving, 0.0).is_err());
+        // One segment of two samples: T = 1 s.
+        let floor = r.white_noise_floor(2.0);
+        assert_eq!(floor.len(), 1);
+        assert!((floor[0] - 0.674_489_750_196_081_7 * 2.0).abs() < 1e-12);
     }
 
     #[test]

@@ -7,11 +7,16 @@
 //!
 //! | name | model | motion gate |
 //! |---|---|---|
-//! | `gyrocomp` | CPSO-LSSVM ([`build_pipeline`], the daemon's) | `[motion]` thresholds on the rate |
-//! | `gyrocomp-flagged` | CPSO-LSSVM | the same, plus the file's `moving` column as the publisher's flag (an oracle: it says what the gate has to guess) |
+//! | `gyrocomp` | the configured `[drift]` estimator ([`build_pipeline`], the daemon's; default Kalman) | the configured `[motion]` detector (default statistical) |
+//! | `gyrocomp-flagged` | the same | the same, plus the file's `moving` column as the publisher's flag (an oracle: it says what the detector has to guess) |
+//! | `cpso-lssvm` | the paper's CPSO-LSSVM forecaster | the configured detector |
 //! | `persistence` | x̃[t] = the newest denoised sample | none: it sees the whole stream |
 //! | `ar` | AR(p), order by AIC ≤ 20, refitted on the retrain schedule | none |
-//! | `persistence-gated`, `ar-gated` | the same models | `[motion]`, as gyrocomp (what the gate alone is worth) |
+//! | `persistence-gated`, `ar-gated` | the same models | the configured detector, as gyrocomp (what the detector alone is worth) |
+//!
+//! `bias-hold`, `last-static` and `highpass` need no pipeline: start-up mean; the mean of the last
+//! 60 s of samples the file flags static (a zero-rate-update reference that knows when it stops);
+//! a causal high-pass.
 //!
 //! `persistence` and `ar` are one-step predictors of the drift run causally on the stream as it
 //! comes: nothing tells them when the platform moves, so a rotation enters their input like
@@ -35,7 +40,7 @@ use crate::config::Config;
 use crate::model::baselines::{Ar, PersistenceModel};
 use crate::model::scaler::MinMaxScaler;
 use crate::stream::{
-    BuildError, FLAG_MOVING, InputSample, MotionConfig, Pipeline, Trainer, build_pipeline, offline_config, run_pipeline,
+    BuildError, DetectorKind, EstimatorKind, FLAG_MOVING, InputSample, MotionConfig, Pipeline, Trainer, build_pipeline, offline_config, run_pipeline,
 };
 
 /// A model of the motion-injected protocol (module documentation).
@@ -48,6 +53,11 @@ pub enum MotionModel {
     GyrocompFlagged,
     /// Raw minus the mean of the start-up window.
     BiasHold,
+    /// Raw minus the mean of the last 60 s of static samples, with the file's flags (ZARU).
+    LastStatic,
+    /// The pipeline with the `cpso-lssvm` estimator (the paper's method) behind the configured
+    /// detector.
+    CpsoLssvm,
     /// Persistence of the denoised stream, no gate.
     Persistence,
     /// AR(p) on the denoised stream, no gate.
@@ -62,10 +72,12 @@ pub enum MotionModel {
 
 impl MotionModel {
     /// Every model, in table order.
-    pub const ALL: [Self; 8] = [
+    pub const ALL: [Self; 10] = [
         Self::Gyrocomp,
         Self::GyrocompFlagged,
         Self::BiasHold,
+        Self::LastStatic,
+        Self::CpsoLssvm,
         Self::Persistence,
         Self::Ar,
         Self::Highpass,
@@ -79,6 +91,8 @@ impl MotionModel {
             Self::Gyrocomp => "gyrocomp",
             Self::GyrocompFlagged => "gyrocomp-flagged",
             Self::BiasHold => "bias-hold",
+            Self::LastStatic => "last-static",
+            Self::CpsoLssvm => "cpso-lssvm",
             Self::Persistence => "persistence",
             Self::Ar => "ar",
             Self::Highpass => "highpass",
@@ -89,7 +103,7 @@ impl MotionModel {
 
     /// Whether the model runs through the pipeline (and so takes a while on long runs).
     pub fn uses_pipeline(self) -> bool {
-        !matches!(self, Self::BiasHold | Self::Highpass)
+        !matches!(self, Self::BiasHold | Self::Highpass | Self::LastStatic)
     }
 }
 
@@ -106,6 +120,9 @@ impl FromStr for MotionModel {
         find_by_name(&Self::ALL, Self::name, s, "motion-protocol model")
     }
 }
+
+/// Window of `last-static`, s (the ZARU reference of issue 13).
+pub const LAST_STATIC_S: f64 = 60.0;
 
 /// Settings of the baselines that need no pipeline.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -144,11 +161,19 @@ fn no_gate(window: usize) -> MotionConfig {
 /// The pipeline of a pipeline model, from the offline configuration.
 fn pipeline(model: MotionModel, config: &Config) -> Result<Pipeline, BuildError> {
     let mut settings = config.pipeline()?;
+    // The baseline predictors forecast the denoised stream: the model forecaster's machinery.
+    settings.drift.kind = EstimatorKind::CpsoLssvm;
     if matches!(model, MotionModel::Persistence | MotionModel::Ar) {
+        settings.detector = DetectorKind::Threshold;
         settings.motion = no_gate(settings.motion.window);
     }
     let mut p = match model {
         MotionModel::Gyrocomp | MotionModel::GyrocompFlagged => return build_pipeline(config),
+        MotionModel::CpsoLssvm => {
+            let mut c = config.clone();
+            c.drift.estimator = EstimatorKind::CpsoLssvm;
+            return build_pipeline(&c);
+        }
         _ => Pipeline::new(settings)?,
     };
     if matches!(model, MotionModel::Persistence | MotionModel::PersistenceGated) {
@@ -179,6 +204,10 @@ pub fn run_motion_model(
             let b = run.bias_hold(baselines.startup_s)?;
             let detail = format!("mean of the first {} samples: {:.6} deg/s", b.samples, b.bias_dps);
             return Ok(ModelOutput { compensated: b.compensated, detail });
+        }
+        MotionModel::LastStatic => {
+            let detail = format!("mean of the last {LAST_STATIC_S} s of samples flagged static");
+            return Ok(ModelOutput { compensated: run.last_static(moving, LAST_STATIC_S)?, detail });
         }
         MotionModel::Highpass => {
             let detail = format!("first-order RC, cutoff {} Hz", baselines.highpass_hz);

@@ -9,6 +9,7 @@ pub mod cc;
 pub mod cpso;
 pub mod lssvm;
 pub mod metrics;
+pub mod normal;
 pub mod rng;
 pub mod scaler;
 pub mod snapshot;

@@ -20,10 +20,16 @@ pub enum BuildError {
     Trainer(#[source] std::io::Error),
 }
 
-/// The pipeline of `config` ([`Config::pipeline`]) with the CPSO-LSSVM retrainer of `[retrain]`
-/// ([`Config::cpso_lssvm`], paper §2.2) attached on its own thread.
+/// The pipeline of `config` ([`Config::pipeline`]); when its drift estimator takes models
+/// (`cpso-lssvm`), with the CPSO-LSSVM retrainer of `[retrain]` ([`Config::cpso_lssvm`], paper
+/// §2.2) attached on its own thread.
 pub fn build_pipeline(config: &Config) -> Result<Pipeline, BuildError> {
-    let mut pipeline = Pipeline::new(config.pipeline()?)?;
+    let settings = config.pipeline()?;
+    let uses_models = settings.drift.kind.uses_models();
+    let mut pipeline = Pipeline::new(settings)?;
+    if !uses_models {
+        return Ok(pipeline);
+    }
     let trainer = Trainer::spawn_niced(config.cpso_lssvm()?, config.retrain.nice).map_err(BuildError::Trainer)?;
     pipeline.attach_trainer(trainer);
     Ok(pipeline)

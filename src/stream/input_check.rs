@@ -45,7 +45,7 @@ const MAD_MEAN_TO_SIGMA: f64 = 1.253_314_137_315_500_3;
 pub struct InputConfig {
     /// Largest accepted |rate|, deg/s (the sensor's range).
     pub range_dps: f64,
-    /// Nominal sample period, ns.
+    /// Nominal sample period, ns (0: not known yet, no gap test).
     pub period_ns: u64,
     /// A t_ns step above `gap_factor · period_ns` is a gap.
     pub gap_factor: f64,
@@ -181,8 +181,9 @@ impl InputCheck {
                 self.counters.gaps += 1;
                 return Verdict { status: STATUS_REJECTED | STATUS_GAP };
             }
+            // Period 0: not known yet ("auto" before the first steps are measured).
             let limit = self.config.gap_factor * self.config.period_ns as f64;
-            if (t_ns - prev) as f64 > limit {
+            if self.config.period_ns > 0 && (t_ns - prev) as f64 > limit {
                 status |= STATUS_GAP;
             }
         }

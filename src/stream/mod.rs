@@ -4,15 +4,19 @@
 //! [`build_pipeline`], the construction every driver shares, [`offline`], the driver without
 //! IPC, and, at the edge, [`ipc`]: the only module that knows iceoryx2.
 
-mod axis;
 pub mod build;
+pub mod calibration;
 pub mod causal_denoise;
+pub mod detector;
+pub mod drift;
 pub mod embed;
 pub mod input_check;
 pub mod ipc;
 pub mod model_slot;
 pub mod motion_gate;
 pub mod offline;
+pub mod pending;
+pub mod period;
 pub mod pipeline;
 pub mod retrain;
 pub mod ring;
@@ -20,7 +24,10 @@ pub mod sample;
 pub mod snapshot;
 
 pub use build::{BuildError, build_pipeline};
+pub use calibration::NoiseCalibration;
 pub use causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser, denoise_causal};
+pub use detector::{DetectorCounters, DetectorKind, MotionDetector, StatisticalConfig};
+pub use drift::{DriftConfig, DriftEstimate, DriftEstimator, EstimatorKind, KalmanCounters};
 pub use embed::{Embedded, Embedding};
 pub use input_check::{InputCheck, InputConfig, InputCounters, Verdict};
 pub use model_slot::{InstalledModel, ModelSlot, SharedModel};

@@ -39,16 +39,31 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::axis::AxisState;
+use super::calibration::NoiseCalibration;
 use super::causal_denoise::CausalConfig;
+use super::detector::{
+    Decision, DetectorCounters, DetectorInput, DetectorKind, MotionDetector, StatisticalConfig, StatisticalDetector,
+    ThresholdDetector,
+};
+use super::drift::{DriftConfig, DriftEstimate, DriftEstimator, EstimatorKind, KalmanBias, ModelForecast, StartupHold};
 use super::embed::Embedding;
 use super::input_check::{InputCheck, InputConfig, InputCounters};
 use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
-use super::motion_gate::{MotionConfig, MotionGate};
+use super::motion_gate::MotionConfig;
+use super::pending::PendingQueue;
+use super::period::PeriodEstimate;
 use super::retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
 use super::sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED};
 use super::snapshot::AxisWarm;
 use crate::model::scaler::MinMaxScaler;
+
+/// The shortest τ\* a drift estimator may track at, as a fraction of the detector's longest
+/// window ([`NoiseCalibration::set_min_block`]). 1 keeps a tracker from following any rotation
+/// the detector could still find but makes it lag a warming-up sensor; 0 lets it follow both.
+/// Chosen on simulated recordings (adis16405 preset at 10, 100 and 1000 Hz, mpu6050 preset, the
+/// tactical preset; seeds 100–105, turns and mixed profiles; 0, 0.3 and 1 tried: pooled median
+/// 0.59×, 0.57×, 0.62× bias-hold, whole-run 1.02×, 0.35×, 0.43×), never on reported recordings.
+pub const MIN_TRACKING_FRACTION: f64 = 0.3;
 
 /// Everything the pipeline needs (built from [`crate::config::Config::pipeline`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -59,8 +74,14 @@ pub struct PipelineConfig {
     pub embedding: Embedding,
     /// Samples the running static bias estimate averages (used before the first model).
     pub bias_samples: u64,
-    /// Motion gate thresholds.
+    /// Thresholds of the `threshold` detector.
     pub motion: MotionConfig,
+    /// Which static/moving detector.
+    pub detector: DetectorKind,
+    /// Settings of the `statistical` detector.
+    pub statistical: StatisticalConfig,
+    /// Which drift estimator, and its settings.
+    pub drift: DriftConfig,
     /// Input validation and gaps.
     pub input: InputConfig,
     /// Retrain schedule (used once a trainer is attached).
@@ -90,6 +111,12 @@ pub struct PipelineStats {
     pub retrain_failed: u64,
     /// Successful retrains installed.
     pub models_installed: u64,
+    /// Static samples committed to the drift estimators.
+    pub committed: u64,
+    /// Pending static samples discarded as the lead-in of a detected motion.
+    pub discarded: u64,
+    /// What the static detector did.
+    pub detector: DetectorCounters,
 }
 
 /// Why a pipeline could not be built or a model installed.
@@ -106,6 +133,8 @@ pub enum PipelineError {
         /// The pipeline's horizon (denoiser lag + 1).
         pipeline: usize,
     },
+    /// The estimator takes no models (its name).
+    NoModels(&'static str),
     /// The model needs more history than the pipeline keeps.
     HistoryTooLong {
         /// Samples the model reads.
@@ -120,6 +149,7 @@ impl fmt::Display for PipelineError {
         match self {
             Self::Config(m) => f.write_str(m),
             Self::NoSuchAxis(a) => write!(f, "axis {a} does not exist (0, 1, 2)"),
+            Self::NoModels(name) => write!(f, "the {name} drift estimator takes no models"),
             Self::HorizonMismatch { model, pipeline } => write!(
                 f,
                 "model forecasts {model} samples ahead; the pipeline needs 1 (iterated) or {pipeline} (denoise.lag + 1)"
@@ -133,6 +163,26 @@ impl fmt::Display for PipelineError {
 
 impl std::error::Error for PipelineError {}
 
+/// One axis: its drift estimator and the values held for moving and rejected samples.
+#[derive(Debug)]
+struct AxisState {
+    estimator: Box<dyn DriftEstimator>,
+    /// Drift subtracted from the last accepted sample (held for rejects).
+    drift: f64,
+    /// Last compensated value of an accepted sample (the substitute for a rejected one).
+    comp: f64,
+    /// Whether the last accepted sample's drift came from the estimator's model.
+    from_model: bool,
+}
+
+impl AxisState {
+    fn set(&mut self, e: DriftEstimate, raw: f64) {
+        self.drift = e.drift;
+        self.comp = raw - e.drift;
+        self.from_model = e.from_model;
+    }
+}
+
 /// A retrain request waiting for its result.
 #[derive(Debug, Clone, Copy)]
 struct Pending {
@@ -144,7 +194,10 @@ struct Pending {
 pub struct Pipeline {
     config: PipelineConfig,
     axes: [AxisState; 3],
-    gate: MotionGate,
+    noise: [NoiseCalibration; 3],
+    detector: Box<dyn MotionDetector>,
+    queue: PendingQueue,
+    period: PeriodEstimate,
     check: InputCheck,
     /// Samples since the last accepted static sample (0 while static).
     horizon: u64,
@@ -156,17 +209,45 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// Builds the pipeline; every per-sample buffer is allocated here.
+    /// Builds the pipeline; every per-sample buffer is allocated here (the statistical
+    /// detector's windows once the sample period is known: here when `input.rate_hz` is given,
+    /// after the first timestamps when it is "auto").
     pub fn new(config: PipelineConfig) -> Result<Self, PipelineError> {
         config.causal.validate().map_err(|e| PipelineError::Config(format!("denoise.window/denoise.lag: {e}")))?;
+        config.statistical.validate().map_err(PipelineError::Config)?;
         let history = config.retrain.window.max(config.embedding.history());
-        let axis = || {
-            AxisState::new(config.causal.clone(), history, config.bias_samples)
-                .map_err(|e| PipelineError::Config(e.to_string()))
+        let period = PeriodEstimate::new(config.input.period_ns);
+        let startup_samples = period
+            .period_s()
+            .map_or(u64::MAX, |t| (config.drift.startup_s / t).round().max(1.0) as u64);
+        let axis = || -> Result<AxisState, PipelineError> {
+            let estimator: Box<dyn DriftEstimator> = match config.drift.kind {
+                EstimatorKind::Kalman => Box::new(KalmanBias::new(config.drift.innovation_gate)),
+                EstimatorKind::BiasHold => Box::new(StartupHold::new(startup_samples)),
+                EstimatorKind::CpsoLssvm => Box::new(
+                    ModelForecast::new(config.causal.clone(), history, config.bias_samples)
+                        .map_err(|e| PipelineError::Config(e.to_string()))?,
+                ),
+            };
+            Ok(AxisState { estimator, drift: 0.0, comp: 0.0, from_model: false })
         };
         let axes = [axis()?, axis()?, axis()?];
+        let mut detector: Box<dyn MotionDetector> = match config.detector {
+            DetectorKind::Statistical => Box::new(StatisticalDetector::new(config.statistical.clone())),
+            DetectorKind::Threshold => Box::new(ThresholdDetector::new(config.motion)),
+        };
+        let mut noise: [NoiseCalibration; 3] = Default::default();
+        if let Some(t) = period.period_s() {
+            detector.set_period(t);
+            for n in &mut noise {
+                n.set_min_block(MIN_TRACKING_FRACTION * detector.longest_window() as f64);
+            }
+        }
         Ok(Self {
-            gate: MotionGate::new(config.motion),
+            noise,
+            queue: PendingQueue::new(detector.commit_delay()),
+            detector,
+            period,
             check: InputCheck::new(config.input),
             axes,
             config,
@@ -189,7 +270,8 @@ impl Pipeline {
     /// Applies new motion-gate and input thresholds from the next sample on (a reloaded
     /// configuration); buffers, models and counters are kept (see [`MotionGate::reconfigure`]).
     pub fn update_thresholds(&mut self, motion: MotionConfig, input: InputConfig) {
-        self.gate.reconfigure(motion);
+        self.detector.reconfigure_thresholds(motion);
+        let input = InputConfig { period_ns: self.check.config().period_ns, ..input };
         self.check.reconfigure(input);
         self.config.motion = motion;
         self.config.input = input;
@@ -198,8 +280,8 @@ impl Pipeline {
     /// Applies a new retrain schedule from the next sample on; a pending request keeps running.
     /// Refused when `schedule.window` exceeds the history allocated in [`Pipeline::new`].
     pub fn set_retrain_schedule(&mut self, schedule: RetrainSchedule) -> Result<(), PipelineError> {
-        let kept = self.axes[0].history.capacity();
-        if schedule.window > kept {
+        let kept = self.axes[0].estimator.max_model_history();
+        if self.config.drift.kind.uses_models() && schedule.window > kept {
             return Err(PipelineError::Config(format!(
                 "retrain.window: {} exceeds the {kept} samples of history kept since start",
                 schedule.window
@@ -220,7 +302,22 @@ impl Pipeline {
     /// Counters.
     pub fn stats(&self) -> PipelineStats {
         let input = self.check.counters();
-        PipelineStats { input, gaps: input.gaps, ..self.stats }
+        PipelineStats { input, gaps: input.gaps, detector: self.detector.counters(), ..self.stats }
+    }
+
+    /// The self-calibration of one axis (online Allan variance of its committed samples).
+    pub fn noise(&self, axis: usize) -> Option<&NoiseCalibration> {
+        self.noise.get(axis)
+    }
+
+    /// The drift estimator of one axis.
+    pub fn estimator(&self, axis: usize) -> Option<&dyn DriftEstimator> {
+        self.axes.get(axis).map(|a| a.estimator.as_ref())
+    }
+
+    /// The sample period in use, seconds (`None` while "auto" has not measured it yet).
+    pub fn period_s(&self) -> Option<f64> {
+        self.period.period_s()
     }
 
     /// Forecast horizon: samples (moving or rejected) since the last accepted static sample
@@ -231,12 +328,13 @@ impl Pipeline {
 
     /// Version of the newest model installed on any axis (0 = none).
     pub fn model_version(&self) -> u64 {
-        self.axes.iter().map(|a| a.slot.version()).max().unwrap_or(0)
+        self.axes.iter().filter_map(|a| a.estimator.model_slot()).map(|s| s.version()).max().unwrap_or(0)
     }
 
-    /// The model slot of an axis, for installing from another thread.
+    /// The model slot of an axis, for installing from another thread (`None` also when the
+    /// estimator takes no models).
     pub fn model_slot(&self, axis: usize) -> Option<Arc<ModelSlot>> {
-        self.axes.get(axis).map(|a| Arc::clone(&a.slot))
+        self.axes.get(axis).and_then(|a| a.estimator.model_slot()).map(Arc::clone)
     }
 
     /// Installs a model (normalised units) and the scaler of its training window on one axis.
@@ -248,15 +346,18 @@ impl Pipeline {
         version: u64,
     ) -> Result<(), PipelineError> {
         let a = self.axes.get(axis).ok_or(PipelineError::NoSuchAxis(axis))?;
-        let (need, kept) = (model.history_len(), a.max_model_history());
+        let Some(slot) = a.estimator.model_slot() else {
+            return Err(PipelineError::NoModels(a.estimator.name()));
+        };
+        let (need, kept) = (model.history_len(), a.estimator.max_model_history());
         if need > kept {
             return Err(PipelineError::HistoryTooLong { need, kept });
         }
-        let (horizon, steps) = (model.horizon(), a.steps());
+        let (horizon, steps) = (model.horizon(), a.estimator.model_steps());
         if horizon != 1 && horizon != steps {
             return Err(PipelineError::HorizonMismatch { model: horizon, pipeline: steps });
         }
-        a.slot.install(InstalledModel { model, scaler, version });
+        slot.install(InstalledModel { model, scaler, version });
         self.next_version = self.next_version.max(version + 1);
         Ok(())
     }
@@ -264,7 +365,11 @@ impl Pipeline {
     /// Copies of each axis' buffers (denoiser window, static history) and running values (bias
     /// estimate, held drift), for a snapshot: see [`crate::stream::snapshot`].
     pub fn warm_state(&self) -> [AxisWarm; 3] {
-        self.axes.each_ref().map(AxisState::warm)
+        self.axes.each_ref().map(|a| {
+            let mut w = AxisWarm { drift: a.drift, comp: a.comp, ..AxisWarm::default() };
+            a.estimator.warm(&mut w);
+            w
+        })
     }
 
     /// Restores what [`Pipeline::warm_state`] copied (models are installed separately with
@@ -274,7 +379,9 @@ impl Pipeline {
             return Err(PipelineError::Config(format!("warm state of axis {axis} holds a non-finite value")));
         }
         for (a, w) in self.axes.iter_mut().zip(warm) {
-            a.restore(w);
+            a.estimator.restore(w);
+            a.drift = w.drift;
+            a.comp = w.comp;
         }
         Ok(())
     }
@@ -283,7 +390,7 @@ impl Pipeline {
     /// (raw units, oldest first); empty for a bad axis index.
     pub fn training_window(&self, axis: usize) -> Vec<f64> {
         self.axes.get(axis).map_or_else(Vec::new, |a| {
-            let h = a.history.as_slice();
+            let h = a.estimator.training_history();
             h[h.len().saturating_sub(self.config.retrain.window)..].to_vec()
         })
     }
@@ -308,6 +415,7 @@ impl Pipeline {
         let mut status = verdict.status;
         let mut rate = [0.0; 3];
         let mut drift = [0.0; 3];
+        let index = self.stats.samples;
         if verdict.rejected() {
             status |= STATUS_REJECTED;
             self.stats.rejected += 1;
@@ -316,37 +424,51 @@ impl Pipeline {
                 let r = input.rate_dps[k];
                 drift[k] = a.drift;
                 rate[k] = if self.check.in_range(r) { r - a.drift } else { a.comp };
-                if a.slot.load().is_none() {
-                    status |= STATUS_NO_MODEL;
-                }
-            }
-        } else if self.gate.push(&input.rate_dps, self.gate_reference().as_ref(), publisher_moving) {
-            status |= STATUS_MOVING;
-            self.stats.moving += 1;
-            self.horizon += 1;
-            for (k, a) in self.axes.iter_mut().enumerate() {
-                drift[k] = a.drift;
-                rate[k] = input.rate_dps[k] - a.drift;
-                a.comp = rate[k];
-                if a.slot.load().is_none() {
+                if !a.from_model {
                     status |= STATUS_NO_MODEL;
                 }
             }
         } else {
-            self.horizon = 0;
-            for (k, a) in self.axes.iter_mut().enumerate() {
-                let (d, by_model) = a.forecast();
-                if !by_model {
-                    status |= STATUS_NO_MODEL;
+            self.observe_time(input.t_ns);
+            let estimates = self.predict(index, &input.rate_dps);
+            let decision = self.detector.push(&DetectorInput {
+                rate: &input.rate_dps,
+                drift: &estimates,
+                noise: &self.noise,
+                publisher_moving,
+            });
+            self.settle_pending(decision);
+            if decision.moving {
+                status |= STATUS_MOVING;
+                self.stats.moving += 1;
+                self.horizon += 1;
+                for (k, a) in self.axes.iter_mut().enumerate() {
+                    let e = a.estimator.predict_moving(index, self.queue.mean(k), &self.noise[k]);
+                    a.set(e, input.rate_dps[k]);
+                    drift[k] = a.drift;
+                    rate[k] = a.comp;
+                    if !e.from_model {
+                        status |= STATUS_NO_MODEL;
+                    }
                 }
-                let r = input.rate_dps[k];
-                a.drift = d;
-                a.comp = r - d;
-                drift[k] = d;
-                rate[k] = a.comp;
-                a.push_static(r);
+            } else {
+                self.horizon = 0;
+                for (k, a) in self.axes.iter_mut().enumerate() {
+                    let e = estimates[k];
+                    a.set(e, input.rate_dps[k]);
+                    drift[k] = a.drift;
+                    rate[k] = a.comp;
+                    if !e.from_model {
+                        status |= STATUS_NO_MODEL;
+                    }
+                }
+                self.queue.push(index, input.rate_dps);
+                while self.queue.len() > self.detector.commit_delay() {
+                    let Some((i, r)) = self.queue.pop_oldest() else { break };
+                    self.commit(i, &r);
+                }
+                self.check.accept_static(&input.rate_dps);
             }
-            self.check.accept_static(&input.rate_dps);
         }
         OutputSample {
             seq: input.seq,
@@ -358,11 +480,55 @@ impl Pipeline {
         }
     }
 
-    /// The motion gate's rate reference: each axis' running static bias estimate, once a static
-    /// sample was accepted (before, there is none).
-    fn gate_reference(&self) -> Option<[f64; 3]> {
-        let [x, y, z] = &self.axes;
-        Some([x.bias()?, y.bias()?, z.bias()?])
+    /// Measures the sample period from the timestamps when `input.rate_hz` is "auto"; once it is
+    /// known, the gap check and the detector's windows use it.
+    fn observe_time(&mut self, t_ns: u64) {
+        if let Some(period_ns) = self.period.observe(t_ns) {
+            let input = InputConfig { period_ns, ..*self.check.config() };
+            self.check.reconfigure(input);
+            self.detector.set_period(period_ns as f64 * 1e-9);
+            self.queue.set_capacity(self.detector.commit_delay());
+            for n in &mut self.noise {
+                n.set_min_block(MIN_TRACKING_FRACTION * self.detector.longest_window() as f64);
+            }
+            if self.config.drift.kind == EstimatorKind::BiasHold {
+                let span = (self.config.drift.startup_s / (period_ns as f64 * 1e-9)).round().max(1.0) as u64;
+                for a in &mut self.axes {
+                    a.estimator = Box::new(StartupHold::new(span));
+                }
+            }
+            tracing::info!(period_ns, "sample period measured from the timestamps");
+        }
+    }
+
+    /// Each axis' drift estimate for the sample at `index`; feeds the start-up σ first.
+    fn predict(&mut self, index: u64, rate: &[f64; 3]) -> [DriftEstimate; 3] {
+        std::array::from_fn(|k| {
+            self.noise[k].observe(rate[k]);
+            self.axes[k].estimator.predict(index, self.queue.mean(k), &self.noise[k])
+        })
+    }
+
+    /// Applies a detector's look-back: on an onset the newest `discard` pending samples are
+    /// dropped and the older ones committed.
+    fn settle_pending(&mut self, decision: Decision) {
+        if !decision.flush {
+            return;
+        }
+        self.stats.discarded += self.queue.drop_newest(decision.discard) as u64;
+        while let Some((i, r)) = self.queue.pop_oldest() {
+            self.commit(i, &r);
+        }
+    }
+
+    /// Commits a confirmed static sample: calibration first (so the first commit has a noise
+    /// figure), then the estimator.
+    fn commit(&mut self, index: u64, rate: &[f64; 3]) {
+        self.stats.committed += 1;
+        for (k, a) in self.axes.iter_mut().enumerate() {
+            self.noise[k].commit(rate[k]);
+            a.estimator.commit(index, rate[k], &self.noise[k]);
+        }
     }
 
     /// Applies a finished retrain: deterministic mode at exactly `request + apply_delay`
@@ -432,7 +598,7 @@ impl Pipeline {
             tracing::debug!(at = self.stats.samples, "retrain due while the previous one runs: skipped");
             return;
         }
-        if self.axes.iter().any(|a| a.history.len().min(s.window) < s.min_samples) {
+        if self.axes.iter().any(|a| a.estimator.training_history().len().min(s.window) < s.min_samples) {
             self.stats.retrain_starved += 1;
             return;
         }
@@ -458,7 +624,7 @@ mod tests {
     use crate::model::Predict;
 
     fn pipeline() -> Pipeline {
-        let mut c = Config::default();
+        let mut c = Config::paper();
         c.retrain.window = 100;
         c.retrain.min_samples = 50;
         Pipeline::new(c.pipeline().unwrap()).unwrap()

@@ -37,7 +37,7 @@ use crate::model::snapshot::ModelState;
 /// First bytes of every snapshot.
 pub const MAGIC: [u8; 8] = *b"GYROSNAP";
 /// Version of the layout and payload written by this build (the only one it reads).
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 /// Largest payload accepted, bytes (a 1,000,000-sample history of three axes is 24 MB).
 pub const MAX_PAYLOAD: usize = 256 << 20;
 /// Bytes before the payload.
@@ -57,8 +57,10 @@ pub struct Compat {
     pub lag: usize,
     /// `embedding.tau`, `embedding.dim`.
     pub embedding: Embedding,
-    /// Nominal sample period from `input.rate_hz`, ns.
+    /// Nominal sample period from `input.rate_hz`, ns (0: "auto").
     pub period_ns: u64,
+    /// `drift.estimator`.
+    pub estimator: String,
 }
 
 impl Compat {
@@ -71,6 +73,7 @@ impl Compat {
             lag: config.causal.lag,
             embedding: config.embedding,
             period_ns: config.input.period_ns,
+            estimator: config.drift.kind.name().to_owned(),
         }
     }
 
@@ -89,21 +92,28 @@ impl Compat {
         cmp("embedding.tau", self.embedding.tau.to_string(), running.embedding.tau.to_string());
         cmp("embedding.dim", self.embedding.dim.to_string(), running.embedding.dim.to_string());
         cmp("input.rate_hz (period ns)", self.period_ns.to_string(), running.period_ns.to_string());
+        cmp("drift.estimator", self.estimator.clone(), running.estimator.clone());
         if diffs.is_empty() { Ok(()) } else { Err(SnapshotError::Incompatible(diffs.join("; "))) }
     }
 }
 
-/// One axis' pipeline state beside its model (see the module documentation).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// One axis' pipeline state beside its model (see the module documentation); each drift
+/// estimator fills the fields it uses and leaves the others at their defaults.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct AxisWarm {
     /// Raw static samples in the causal denoiser's window, oldest first.
     pub denoiser_window: Vec<f64>,
     /// Static denoised samples (model input and training window), oldest first.
     pub history: Vec<f64>,
-    /// Running static bias estimate (the fallback drift).
+    /// Bias estimate: the running static mean (cpso-lssvm's fallback), the Kalman state, or
+    /// the start-up mean.
     pub bias: f64,
-    /// Samples the bias estimate has averaged (capped at `pipeline.bias_samples`).
+    /// Samples the bias estimate has averaged (cpso-lssvm: capped at `pipeline.bias_samples`).
     pub bias_count: u64,
+    /// Kalman: variance of `bias`, (deg/s)² (+∞ before the first commit).
+    pub variance: f64,
+    /// Kalman: sample index of the last committed sample.
+    pub last_commit: u64,
     /// Drift subtracted from the last accepted sample (held during motion).
     pub drift: f64,
     /// Last compensated value of an accepted sample (the substitute for a rejected one).
@@ -113,7 +123,9 @@ pub struct AxisWarm {
 impl AxisWarm {
     /// Whether every value is finite.
     pub fn is_finite(&self) -> bool {
-        [self.bias, self.drift, self.comp]
+        // The Kalman variance is +∞ before its first commit; NaN and negative values are not.
+        self.variance >= 0.0
+            && [self.bias, self.drift, self.comp]
             .iter()
             .chain(&self.denoiser_window)
             .chain(&self.history)
@@ -324,7 +336,7 @@ mod tests {
     use crate::stream::{InputSample, OutputSample, STATUS_NO_MODEL};
 
     fn config() -> Config {
-        let mut c = Config::default();
+        let mut c = Config::paper();
         c.denoise.window = 64;
         c.retrain.window = 300;
         c.retrain.min_samples = 100;
@@ -418,8 +430,8 @@ mod tests {
         assert_eq!(decode(&magic), SnapshotError::BadMagic);
         assert_eq!(decode(b"{\"json\": 1}"), SnapshotError::BadMagic);
         let mut version = good.clone();
-        version[8..12].copy_from_slice(&2u32.to_le_bytes());
-        assert_eq!(decode(&version), SnapshotError::Version { found: 2 });
+        version[8..12].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
+        assert_eq!(decode(&version), SnapshotError::Version { found: FORMAT_VERSION + 1 });
         let mut huge = good.clone();
         huge[12..20].copy_from_slice(&u64::MAX.to_le_bytes());
         assert!(matches!(decode(&huge), SnapshotError::TooLarge(_)));
@@ -446,7 +458,7 @@ mod tests {
         // Incompatible settings name the key and leave the pipeline untouched.
         let mut other = c.clone();
         other.denoise.lag = 7;
-        other.input.rate_hz = 200.0;
+        other.input.rate_hz = crate::config::RateSetting::Hz(200.0);
         let mut p = Pipeline::new(other.pipeline().unwrap()).unwrap();
         let err = Snapshot::decode(&good).unwrap().restore_into(&mut p).unwrap_err();
         let msg = err.to_string();

@@ -9,6 +9,14 @@ use gyrocomp::eval::{PaperProtocol, Prepared};
 use gyrocomp::io::{ReadOptions, read_table};
 use serde_json::Value;
 
+/// The paper's pipeline (CPSO-LSSVM forecaster behind the fixed-threshold gate) for tests of the
+/// retraining and model machinery: TOML `[drift]` and `[motion]` sections.
+pub const PAPER_PIPELINE: &str = "[drift]
+estimator = \"cpso-lssvm\"
+[motion]
+detector = \"threshold\"
+";
+
 /// A `[retrain]` section that keeps CLI tests quick: a 600-sample window, a request every 1000
 /// samples applied 50 samples later, and a small CPSO. Other `[retrain]` keys may follow it.
 pub const QUICK_RETRAIN: &str = "[retrain]

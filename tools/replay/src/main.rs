@@ -3,7 +3,7 @@
 //! columns of `gyrocomp compensate`. With no daemon serving the configured services, one is
 //! started in-process in a private iceoryx2 domain (see the crate documentation).
 //!
-//! Without IN (the project's main job): simulates an ADIS16405-like static recording at the
+//! Without IN (the project's main job): simulates an ADIS16405-like recording at the
 //! configuration's `input.rate_hz` (600 s, seed 0) into `out/replay/`, replays it through an
 //! embedded daemon into `out/replay/compensated.csv`, and checks that the offline driver
 //! (`gyrocomp compensate`'s pipeline) gives the same output bit for bit.
@@ -14,10 +14,11 @@ use std::time::Duration;
 
 use clap::{Parser, ValueEnum};
 use gyrocomp::cli::error_chain;
+use gyrocomp::config::RateSetting;
 use gyrocomp::cli::sim::write_sim_csv;
 use gyrocomp::daemon::run::load_config;
 use gyrocomp::io::{CompensatedCsvWriter, Recording};
-use gyrocomp::sim::{Generator, Preset};
+use gyrocomp::sim::{Generator, MotionKind, MotionPlan, Preset};
 use gyrocomp::stream::{compensate_recording, offline_config};
 use replay::{Client, EmbeddedDaemon, Pacing, ReplayOptions, Summary, replay};
 use tracing_subscriber::EnvFilter;
@@ -103,27 +104,52 @@ fn seconds(name: &str, s: f64) -> Result<Duration, BoxError> {
 /// Directory of the embedded default's files.
 const DEFAULT_DIR: &str = "out/replay";
 /// Length of the embedded default's recording, s.
-const DEFAULT_DURATION_S: f64 = 600.0;
+const DEFAULT_DURATION_S: f64 = 1800.0;
+/// Static fraction of the turns injected into the embedded default's first column.
+const DEFAULT_STATIC_FRACTION: f64 = 0.5;
+/// Rate of the simulated default recording when `input.rate_hz` is "auto", Hz.
+const DEFAULT_RATE_HZ: f64 = 100.0;
 
-/// Simulates the embedded default recording (ADIS16405 preset at `rate_hz`, seed 0).
-fn default_recording(rate_hz: f64) -> Result<PathBuf, BoxError> {
+/// The embedded default recording: the ADIS16405 preset at `rate_hz` (seed 0) with seeded turns
+/// (`gyrocomp motion --profile turns --seed 0`) added to its first column; returns the path, the
+/// injected rate (the truth) and its moving flags. The flags are not sent to the daemon: it
+/// has to find the motion itself.
+fn default_recording(rate_hz: f64) -> Result<(PathBuf, Vec<f64>, Vec<bool>), BoxError> {
     let dir = PathBuf::from(DEFAULT_DIR);
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let mut sim = Preset::Adis16405.config();
     sim.rate_hz = rate_hz;
     sim.duration_s = DEFAULT_DURATION_S;
-    let path = dir.join(format!("adis16405_sim_{rate_hz}hz.csv"));
-    write_sim_csv(&path, &Generator::generate(&sim, 0)?)?;
-    eprintln!("replay: no recording given; simulated {} ({DEFAULT_DURATION_S} s at {rate_hz} Hz)", path.display());
-    Ok(path)
+    let mut out = Generator::generate(&sim, 0)?;
+    let t_rel: Vec<f64> = out.t_s.iter().map(|t| t - out.t_s[0]).collect();
+    let duration = t_rel.last().copied().unwrap_or(0.0);
+    let plan = MotionPlan::plan(MotionKind::Turns, 0, duration, DEFAULT_STATIC_FRACTION)?;
+    let (truth, moving) = plan.render(&t_rel);
+    for (r, m) in out.axes[0].raw.iter_mut().zip(&truth) {
+        *r += m;
+    }
+    let path = dir.join(format!("adis16405_sim_{rate_hz}hz_turns.csv"));
+    write_sim_csv(&path, &out)?;
+    eprintln!(
+        "replay: no recording given; simulated {} ({DEFAULT_DURATION_S} s at {rate_hz} Hz, {} turns added to gx, not flagged)",
+        path.display(),
+        plan.segments.len()
+    );
+    Ok((path, truth, moving.iter().map(|&m| m > 0.5).collect()))
 }
 
 fn run(args: &Args) -> Result<Summary, BoxError> {
     let config = load_config(args.config.as_deref())?;
     let columns: Vec<&str> = args.columns.iter().map(String::as_str).collect();
-    let input = match &args.input {
-        Some(path) => path.clone(),
-        None => default_recording(config.input.rate_hz)?,
+    let (input, injected) = match &args.input {
+        Some(path) => (path.clone(), None),
+        None => {
+            let (path, truth, moving) = default_recording(match config.input.rate_hz {
+                RateSetting::Hz(hz) => hz,
+                RateSetting::Auto => DEFAULT_RATE_HZ,
+            })?;
+            (path, Some((truth, moving)))
+        }
     };
     let output = args
         .output
@@ -163,7 +189,11 @@ fn run(args: &Args) -> Result<Summary, BoxError> {
     let truth_column = args.truth_column.clone().or_else(|| args.input.is_none().then(|| "gx_drift_dps".to_owned()));
     if let Some(column) = &truth_column {
         let truth = Recording::load(&input, &[column.as_str()], None)?;
-        summary = summary.with_truth(&rec, &result, truth.rate(0).unwrap_or(&[]));
+        let first_motion = injected.as_ref().and_then(|(_, moving)| moving.iter().position(|&m| m));
+        summary = summary.with_truth(&rec, &result, truth.rate(0).unwrap_or(&[]), first_motion);
+    }
+    if let Some((truth, moving)) = injected {
+        summary = summary.with_motion(&rec, &result, truth, &moving);
     }
     if args.input.is_none() && embedded_used {
         // The one-pipeline property, shown: the offline driver on the same recording and config.

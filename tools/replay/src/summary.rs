@@ -2,10 +2,11 @@
 
 use serde::Serialize;
 
+use gyrocomp::eval::MotionRun;
 use gyrocomp::io::Recording;
 use gyrocomp::model::Fit;
 use gyrocomp::model::baselines::BiasHold;
-use gyrocomp::model::metrics::{rmse, std_dev};
+use gyrocomp::model::metrics::{quantile, rmse, std_dev};
 use gyrocomp::stream::{STATUS_MOVING, STATUS_REJECTED};
 
 use crate::stream::ReplayResult;
@@ -50,6 +51,28 @@ pub struct Summary {
     /// The same for the start-up bias-hold baseline (mean of the first 60 s, held), beside it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub drift_rmse_bias_hold_dps: Option<f64>,
+    /// With injected motion (the embedded default): per-motion angle errors, see [`MotionFigures`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionFigures>,
+}
+
+/// Angle errors |∫(compensated − truth)dt| of the first column per motion segment
+/// ([`gyrocomp::eval::MotionRun`]): gyrocomp's answers beside start-up bias-hold and the
+/// white-noise floor 0.674·N·√T of the same recording.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MotionFigures {
+    /// Motion segments.
+    pub motions: usize,
+    /// Median per-motion angle error of the replayed output, deg.
+    pub gyrocomp_median_deg: f64,
+    /// The same for start-up bias-hold (mean of the first 60 s or up to the first motion).
+    pub bias_hold_median_deg: f64,
+    /// Median white-noise floor of the motions, deg.
+    pub floor_median_deg: f64,
+    /// Angle error over the whole run, deg: gyrocomp and bias-hold.
+    pub gyrocomp_run_deg: f64,
+    /// The same for bias-hold.
+    pub bias_hold_run_deg: f64,
 }
 
 /// Start-up window of the bias-hold baseline, s.
@@ -82,14 +105,39 @@ impl Summary {
             offline_equal: None,
             drift_rmse_dps: None,
             drift_rmse_bias_hold_dps: None,
+            motion: None,
         }
     }
 
+    /// Adds the per-motion angle errors against the injected `truth` profile (`moving`: its
+    /// segments); left out when the run cannot be scored (no static start, too short).
+    pub fn with_motion(mut self, rec: &Recording, result: &ReplayResult, truth: Vec<f64>, moving: &[bool]) -> Self {
+        let raw = rec.rate(0).unwrap_or(&[]).to_vec();
+        let Ok(run) = MotionRun::new(rec.t_s().to_vec(), raw, truth, moving) else { return self };
+        let ours: Vec<f64> = result.outputs.iter().map(|o| o.rate_dps[0]).collect();
+        let (Ok(g), Ok(hold)) = (run.score(&ours), run.bias_hold(BIAS_HOLD_S)) else { return self };
+        let Ok(b) = run.score(&hold.compensated) else { return self };
+        let floor = run.sensor_arw().map(|n| run.white_noise_floor(n)).unwrap_or_default();
+        if let (Some(gm), Some(bm), Some(fm)) = (g.angle_err_deg_median, b.angle_err_deg_median, quantile(&floor, 0.5)) {
+            self.motion = Some(MotionFigures {
+                motions: run.segments().len(),
+                gyrocomp_median_deg: gm,
+                bias_hold_median_deg: bm,
+                floor_median_deg: fm,
+                gyrocomp_run_deg: g.angle_err_deg_run,
+                bias_hold_run_deg: b.angle_err_deg_run,
+            });
+        }
+        self
+    }
+
     /// Adds the drift errors against `truth` (the first axis' true drift, one value per row):
-    /// ours and the start-up bias-hold baseline's, over the answered rows after its 60 s window.
-    pub fn with_truth(mut self, rec: &Recording, result: &ReplayResult, truth: &[f64]) -> Self {
+    /// ours and the start-up bias-hold baseline's, over the answered rows after its 60 s window
+    /// (which ends at the first sample of `first_motion`, when motion was injected).
+    pub fn with_truth(mut self, rec: &Recording, result: &ReplayResult, truth: &[f64], first_motion: Option<usize>) -> Self {
         let raw = rec.rate(0).unwrap_or(&[]);
-        let hold = BiasHold::from_duration(BIAS_HOLD_S, rec.sample_rate_hz().unwrap_or(1.0));
+        let mut hold = BiasHold::from_duration(BIAS_HOLD_S, rec.sample_rate_hz().unwrap_or(1.0));
+        hold.samples = hold.samples.min(first_motion.unwrap_or(usize::MAX)).max(1);
         let n = result.outputs.len().min(truth.len());
         let Ok(model) = hold.fit(&raw[..n]) else { return self };
         let rows = hold.samples..n;
@@ -129,6 +177,19 @@ impl Summary {
             ),
             _ => String::new(),
         };
-        text + &truth + check
+        let motion = self.motion.as_ref().map_or_else(String::new, |m| {
+            format!(
+                "\nangle error per motion (median of {} turns, first column): gyrocomp {:.3} deg = {:.2}× start-up bias-hold's {:.3} deg; \
+                 white-noise floor 0.674·N·√T {:.3} deg\nangle error over the whole run: gyrocomp {:.2} deg, bias-hold {:.2} deg",
+                m.motions,
+                m.gyrocomp_median_deg,
+                m.gyrocomp_median_deg / m.bias_hold_median_deg,
+                m.bias_hold_median_deg,
+                m.floor_median_deg,
+                m.gyrocomp_run_deg,
+                m.bias_hold_run_deg
+            )
+        });
+        text + &truth + &motion + check
     }
 }

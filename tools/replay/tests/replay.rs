@@ -28,7 +28,8 @@ fn recording(dir: &Path, seconds: f64) -> PathBuf {
 /// Deterministic retraining every 1000 samples, 10 Hz, plus `extra` TOML.
 fn config_text(extra: &str) -> String {
     format!(
-        "[input]\nrate_hz = 10.0\n\
+        "[drift]\nestimator = \"cpso-lssvm\"\n[motion]\ndetector = \"threshold\"\n\
+         [input]\nrate_hz = 10.0\n\
          [retrain]\nmode = \"deterministic\"\nwindow = 600\nmin_samples = 300\nevery_samples = 1000\n\
          apply_delay_samples = 50\ncpso_candidates = 6\ncpso_particles = 3\ncpso_iterations = 2\n{extra}"
     )
@@ -89,6 +90,35 @@ fn embedded_replay_equals_the_offline_driver_bit_for_bit() {
     let replayed = std::fs::read(&out).unwrap();
     assert_eq!(replayed.iter().filter(|&&b| b == b'\n').count(), 3001);
     assert!(replayed == offline, "replay and the offline driver differ");
+}
+
+/// The default path (Kalman tracker, statistical detector, rate measured from the timestamps) is
+/// the same one pipeline: flags, rejects and a detected turn included, bit for bit.
+#[test]
+fn the_default_path_replays_bit_for_bit_like_the_offline_driver() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut sim = Preset::Paper.config();
+    sim.duration_s = 600.0;
+    let mut out = Generator::generate(&sim, 5).unwrap();
+    // A 20 s turn of 30 deg/s peak on x, from 200 s on, and a NaN sample on y.
+    for (k, r) in out.axes[0].raw.iter_mut().enumerate().skip(2000).take(200) {
+        *r += 30.0 * (std::f64::consts::PI * (k - 2000) as f64 / 200.0).sin().powi(2);
+    }
+    out.axes[1].raw[3000] = f64::NAN;
+    let input = dir.path().join("turn.csv");
+    write_sim_csv(&input, &out).unwrap();
+    let text = "# defaults only\n".to_owned();
+    let config_path = write_config(dir.path(), &text);
+    let out = dir.path().join("replayed.csv");
+    let s = replay_file(&input, &config_path, "embedded", &out, &["--max"]);
+    assert_eq!((count(&s, "sent"), count(&s, "received"), count(&s, "dropped")), (6000, 6000, 0));
+    let config = Config::from_toml(&text, "replay.toml").unwrap();
+    let offline = offline_csv(&input, &config, &dir.path().join("offline.csv"));
+    let replayed = std::fs::read(&out).unwrap();
+    assert!(replayed == offline, "replay and the offline driver differ on the default path");
+    // Something happened on the way: the detector flagged motion somewhere (status bit 1).
+    let text = String::from_utf8(replayed).unwrap();
+    assert!(text.lines().skip(1).any(|l| l.rsplit(',').nth(1).is_some_and(|st| st.parse::<u32>().unwrap() & 2 != 0)));
 }
 
 #[test]

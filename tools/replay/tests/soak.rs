@@ -57,8 +57,8 @@ fn soak(dir: &Path, seconds: f64, warm_version: u64) -> Option<SoakResult> {
     let input = dir.join("soak.csv");
     write_sim_csv(&input, &Generator::generate(&sim, 11).unwrap()).unwrap();
 
-    let mut config = Config::default();
-    config.input.rate_hz = RATE_HZ;
+    let mut config = Config::paper();
+    config.input.rate_hz = gyrocomp::config::RateSetting::Hz(RATE_HZ);
     config.retrain.mode = "deterministic".into();
     config.retrain.every_samples = 60_000; // 60 s of data
     config.retrain.apply_delay_samples = 1000;

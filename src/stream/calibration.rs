@@ -1,0 +1,369 @@
+//! Self-calibration of one axis' noise from the unit's own static data (issue 13, item 2): an
+//! online, non-overlapping Allan variance at octave averaging times, fed with the committed static
+//! samples, plus a robust start-up σ from the first sample-to-sample differences.
+//!
+//! Allan variance (IEEE Std 952-1997, Annex C): for block means ȳ_k over m samples,
+//! σ²(m) = ½·E[(ȳ_{k+1} − ȳ_k)²]. Level j holds blocks of m = 2^j samples; each level's block
+//! sum is the sum of two blocks of the level below (a cascade: amortised two additions per
+//! sample). A level is *trusted* once it has [`TRUSTED_DIFFERENCES`] differences; an untrusted
+//! level is extrapolated from the longest trusted one with the white-noise slope σ² ∝ 1/m
+//! (from the start-up σ before any level is trusted).
+//!
+//! Derived terms, all per sample period T:
+//! - **w(m) = m·σ²(m)**, the "white-equivalent" per-sample variance at block size m (constant
+//!   m·σ²(m) = σ² for white noise): the detector's variance of an m-sample mean is w(m)/m;
+//! - **N² = min over well-determined levels of σ²(τ)·τ** (τ = mT): the angle random walk where the curve
+//!   is flattest in that sense (quantisation raises the short end, bias instability and rate
+//!   random walk the long end);
+//! - **τ\***: the trusted averaging time at which σ(τ) is smallest — beyond it longer averaging
+//!   no longer helps (bias instability / rate random walk take over); while the curve still falls
+//!   at the longest trusted level, τ\* is that level's τ and grows as data accumulates. For
+//!   σ² = N²/τ + K²τ/3 the minimum lies at τ = √3·N/K, so the rate random walk equivalent to the
+//!   measured curve is **K_eff = √3·N/τ\***: it sets the Kalman tracker's process noise.
+//!
+//! Blocks straddle motion: committed samples are concatenated across moving stretches, as the
+//! bias changes slowly (the same choice as the static history of the model forecaster).
+
+/// Octave levels kept: blocks of 1 … 2^(LEVELS−1) samples (2^21 samples: 35 min at 1 kHz).
+pub const LEVELS: usize = 22;
+/// Differences a level needs to enter the white-noise figure N² (relative σ of its estimate
+/// ≈ √(2/1024) = 4 %).
+pub const PRECISE_DIFFERENCES: u64 = 1024;
+/// Differences a level needs before its variance is trusted (relative σ of the estimate ≈ √(2/16)).
+pub const TRUSTED_DIFFERENCES: u64 = 16;
+/// When the Allan variance still falls at the longest trusted level, the minimum lies beyond it
+/// (a level needs [`TRUSTED_DIFFERENCES`] blocks, so the longest trusted one is ≤ 1/16 of the
+/// data): τ\* is taken this many times that level. Chosen on simulated recordings (adis16405
+/// preset, seeds 100 and 101, turns and mixed profiles: 1×, 2×, 4× and ∞ tried), never on the
+/// recordings reported.
+pub const FALLING_EXTRAPOLATION: f64 = 4.0;
+/// Differences the robust start-up σ collects (their median seeds the running scale).
+const STARTUP_DIFFS: usize = 63;
+/// Memory of the running scale of |Δx| (samples): cumulative, then exponential.
+const SCALE_MEMORY: u64 = 4096;
+/// Differences larger than this many running scales are clipped (motion, spikes).
+const SCALE_CLIP: f64 = 4.0;
+/// Observations between refreshes of the derived values from the running scale.
+const REFRESH_EVERY: u64 = 64;
+/// σ of white noise per mean absolute first difference: E|x_{k+1} − x_k| = 2σ/√π.
+const MEAN_ABS_DIFF_TO_SIGMA: f64 = 0.886_226_925_452_758; // √π / 2
+/// Differences before the start-up σ is usable.
+const STARTUP_MIN_DIFFS: usize = 8;
+/// σ of Gaussian noise per median absolute value: 1/Φ⁻¹(0.75).
+const MEDIAN_ABS_TO_SIGMA: f64 = 1.482_602_218_505_602;
+
+#[derive(Debug, Clone, Copy, Default)]
+struct Level {
+    /// Sum of the block in progress.
+    partial: f64,
+    /// Samples (level 0) or lower-level blocks (level ≥ 1) in the block in progress.
+    filled: u8,
+    /// Mean of the last complete block.
+    previous: Option<f64>,
+    /// Σ ½(ȳ_{k+1} − ȳ_k)² and the number of differences.
+    sum_half_sq: f64,
+    count: u64,
+}
+
+/// Online noise calibration of one axis (module documentation); allocation-free.
+#[derive(Debug, Clone)]
+pub struct NoiseCalibration {
+    levels: [Level; LEVELS],
+    /// w(2^j) per level, extrapolated where untrusted (`None` until any σ is known).
+    white_equiv: [f64; LEVELS],
+    known: bool,
+    startup: [f64; STARTUP_DIFFS],
+    startup_len: usize,
+    /// Running clipped mean of |Δx| over accepted samples, and its count (capped).
+    scale: f64,
+    scale_count: u64,
+    observed: u64,
+    /// Shortest τ* returned, samples (the detector's longest window).
+    min_block: f64,
+    last_accepted: Option<f64>,
+    committed: u64,
+    /// Bumped whenever the derived values change (consumers cache on it).
+    version: u64,
+}
+
+impl Default for NoiseCalibration {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl NoiseCalibration {
+    /// An empty calibration: nothing known.
+    pub fn new() -> Self {
+        Self {
+            levels: [Level::default(); LEVELS],
+            white_equiv: [0.0; LEVELS],
+            known: false,
+            startup: [0.0; STARTUP_DIFFS],
+            startup_len: 0,
+            scale: 0.0,
+            scale_count: 0,
+            observed: 0,
+            min_block: 1.0,
+            last_accepted: None,
+            committed: 0,
+            version: 0,
+        }
+    }
+
+    /// Feeds an accepted sample (static or not) to the per-sample σ: the median absolute first
+    /// difference of the first samples (/√2: a difference of two white samples has variance
+    /// 2σ²; the median ignores the large differences of fast motion), then a running mean of
+    /// |Δx| clipped at [`SCALE_CLIP`] times itself (σ = √π/2 · mean |Δx|). It runs on every
+    /// accepted sample, moving or not — smooth motion barely changes sample-to-sample
+    /// differences — so the per-sample σ never waits for committed data: a σ measured too small
+    /// cannot keep every sample "moving" and so starve its own correction.
+    pub fn observe(&mut self, x: f64) {
+        let Some(prev) = self.last_accepted.replace(x) else { return };
+        let d = (x - prev).abs();
+        self.observed += 1;
+        if self.startup_len < STARTUP_DIFFS {
+            self.startup[self.startup_len] = d;
+            self.startup_len += 1;
+            if self.startup_len >= STARTUP_MIN_DIFFS {
+                // Seed (and re-seed, while the start-up set grows) the running scale.
+                let sigma = self.startup_sigma2().map_or(0.0, f64::sqrt);
+                self.scale = sigma / MEAN_ABS_DIFF_TO_SIGMA;
+                self.scale_count = self.startup_len as u64;
+                self.refresh();
+            }
+            return;
+        }
+        self.scale_count = (self.scale_count + 1).min(SCALE_MEMORY);
+        let clipped = if self.scale > 0.0 { d.min(SCALE_CLIP * self.scale) } else { d };
+        self.scale += (clipped - self.scale) / self.scale_count as f64;
+        if self.observed.is_multiple_of(REFRESH_EVERY) {
+            self.refresh();
+        }
+    }
+
+    fn running_sigma2(&self) -> Option<f64> {
+        (self.startup_len >= STARTUP_MIN_DIFFS).then(|| {
+            let s = self.scale * MEAN_ABS_DIFF_TO_SIGMA;
+            s * s
+        })
+    }
+
+    /// Adds a committed static sample to the Allan levels.
+    pub fn commit(&mut self, x: f64) {
+        self.committed += 1;
+        let mut sum = x;
+        let mut changed = false;
+        for (j, level) in self.levels.iter_mut().enumerate() {
+            level.partial += sum;
+            level.filled += 1;
+            let needed = if j == 0 { 1 } else { 2 };
+            if level.filled < needed {
+                break;
+            }
+            let block = level.partial;
+            let mean = block / (1u64 << j) as f64;
+            if let Some(prev) = level.previous {
+                level.sum_half_sq += 0.5 * (mean - prev) * (mean - prev);
+                level.count += 1;
+                changed |= level.count >= TRUSTED_DIFFERENCES;
+            }
+            level.previous = Some(mean);
+            level.partial = 0.0;
+            level.filled = 0;
+            sum = block;
+        }
+        if changed {
+            self.refresh();
+        }
+    }
+
+    fn startup_sigma2(&self) -> Option<f64> {
+        if self.startup_len < STARTUP_MIN_DIFFS {
+            return None;
+        }
+        let mut d = self.startup;
+        let d = &mut d[..self.startup_len];
+        d.sort_unstable_by(f64::total_cmp);
+        let n = d.len();
+        let median = if n % 2 == 1 { d[n / 2] } else { 0.5 * (d[n / 2 - 1] + d[n / 2]) };
+        let sigma = MEDIAN_ABS_TO_SIGMA * median / std::f64::consts::SQRT_2;
+        Some(sigma * sigma)
+    }
+
+    fn trusted_avar(&self, j: usize) -> Option<f64> {
+        let l = &self.levels[j];
+        (l.count >= TRUSTED_DIFFERENCES).then(|| l.sum_half_sq / l.count as f64)
+    }
+
+    fn refresh(&mut self) {
+        let Some(first) = self.trusted_avar(0).or_else(|| self.running_sigma2()) else { return };
+        let mut last_w = first;
+        for j in 0..LEVELS {
+            let m = (1u64 << j) as f64;
+            let w = match self.trusted_avar(j) {
+                Some(v) => v * m,
+                None => last_w,
+            };
+            // A zero variance (a stuck or perfectly quantised input) must not make every deviation
+            // infinitely significant: keep the tiniest positive value.
+            self.white_equiv[j] = w.max(f64::MIN_POSITIVE);
+            last_w = w;
+        }
+        self.known = true;
+        self.version += 1;
+    }
+
+    /// Whether any σ is known yet (start-up differences or committed data).
+    pub fn is_known(&self) -> bool {
+        self.known
+    }
+
+    /// Changes whenever the derived values do.
+    pub fn version(&self) -> u64 {
+        self.version
+    }
+
+    /// Committed samples so far.
+    pub fn committed(&self) -> u64 {
+        self.committed
+    }
+
+    /// Per-sample variance σ² (deg/s)² from the running scale of first differences, `None`
+    /// before anything is known.
+    pub fn sample_variance(&self) -> Option<f64> {
+        self.running_sigma2().map(|v| v.max(f64::MIN_POSITIVE))
+    }
+
+    /// Variance of the mean of `n` consecutive samples, (deg/s)²: w(n)/n with w interpolated
+    /// linearly in log₂ n between the octave levels (module documentation).
+    pub fn mean_variance(&self, n: usize) -> Option<f64> {
+        if !self.known || n == 0 {
+            return None;
+        }
+        let n_f = n as f64;
+        let j = (usize::BITS - 1 - n.leading_zeros()) as usize;
+        if j + 1 >= LEVELS {
+            return Some(self.white_equiv[LEVELS - 1] / n_f);
+        }
+        let lo = (1usize << j) as f64;
+        let frac = (n_f - lo) / lo; // linear in n within the octave: a cheap stand-in for log₂
+        let w = self.white_equiv[j] + frac * (self.white_equiv[j + 1] - self.white_equiv[j]);
+        Some(w / n_f)
+    }
+
+    /// Angle random walk N² per sample period, i.e. the white-noise variance R of one sample
+    /// that long averages see: min over the well-determined levels (at least
+    /// [`PRECISE_DIFFERENCES`] differences: a minimum over noisy levels is biased low) of
+    /// m·σ²(m); the running per-sample σ² before any.
+    pub fn white_variance(&self) -> Option<f64> {
+        let precise = (0..LEVELS).filter_map(|j| {
+            let l = &self.levels[j];
+            (l.count >= PRECISE_DIFFERENCES).then(|| l.sum_half_sq / l.count as f64 * (1u64 << j) as f64)
+        });
+        precise.reduce(f64::min).or_else(|| self.sample_variance()).map(|v| v.max(f64::MIN_POSITIVE))
+    }
+
+    /// τ\* in samples: the trusted block size with the smallest Allan variance (module
+    /// documentation); `None` before any level is trusted.
+    pub fn optimal_block(&self) -> Option<f64> {
+        let mut best: Option<(usize, f64)> = None;
+        let mut longest = 0;
+        for j in 0..LEVELS {
+            if let Some(v) = self.trusted_avar(j) {
+                longest = j;
+                if best.is_none_or(|(_, b)| v < b) {
+                    best = Some((j, v));
+                }
+            }
+        }
+        let (j, _) = best?;
+        let m = (1u64 << j) as f64;
+        let m = if j == longest { m * FALLING_EXTRAPOLATION } else { m };
+        Some(m.max(self.min_block))
+    }
+
+    /// Sets the shortest τ\* (samples) [`NoiseCalibration::optimal_block`] returns: the static
+    /// detector's longest window. A tracker that averages for less than the span over which the
+    /// detector can still find a slow rotation would follow such a rotation; and a curve raised at
+    /// long τ by a rotation it did follow would shorten τ\* further (a loop seen on simulated
+    /// tactical-grade data before this bound).
+    pub fn set_min_block(&mut self, samples: f64) {
+        self.min_block = samples.max(1.0);
+        self.version += 1;
+    }
+
+    /// Allan variance of trusted level j (block 2^j samples) and its number of differences.
+    pub fn level(&self, j: usize) -> Option<(f64, u64)> {
+        let l = self.levels.get(j)?;
+        (l.count > 0).then(|| (l.sum_half_sq / l.count as f64, l.count))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    fn normal(rng: &mut Xoshiro256PlusPlus) -> f64 {
+        StandardNormal.sample(rng)
+    }
+
+    fn white(n: usize, sigma: f64, seed: u64) -> Vec<f64> {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        (0..n).map(|_| sigma * normal(&mut rng) + 0.7).collect()
+    }
+
+    #[test]
+    fn white_noise_gives_sigma_at_every_level_and_mean_variance_falls_as_one_over_n() {
+        let x = white(1 << 16, 0.2, 1);
+        let mut c = NoiseCalibration::new();
+        for &v in &x {
+            c.observe(v);
+            c.commit(v);
+        }
+        let s2 = c.sample_variance().unwrap();
+        assert!((s2 / 0.04 - 1.0).abs() < 0.03, "σ² {s2}");
+        let n2 = c.white_variance().unwrap();
+        assert!(n2 < 0.04 * 1.05 && n2 > 0.04 * 0.6, "N² {n2}");
+        for n in [1usize, 5, 20, 100, 1000] {
+            let v = c.mean_variance(n).unwrap();
+            let rel = v * n as f64 / 0.04;
+            assert!((0.6..1.4).contains(&rel), "n {n}: {rel}");
+        }
+        // White noise: the Allan deviation falls at every trusted level, so τ* is the longest.
+        let longest = (0..LEVELS).rev().find(|&j| c.level(j).is_some_and(|(_, k)| k >= TRUSTED_DIFFERENCES)).unwrap();
+        assert!(c.optimal_block().unwrap() >= (1u64 << (longest - 2)) as f64);
+    }
+
+    #[test]
+    fn a_random_walk_puts_the_minimum_near_sqrt3_n_over_k() {
+        // σ² = N²/τ + K²τ/3 per sample (T = 1): minimum at τ = √3·N/K = 1732 samples.
+        let (n, k) = (0.1_f64, 1e-4_f64);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        let mut b = 0.0;
+        let mut c = NoiseCalibration::new();
+        for _ in 0..(1 << 20) {
+            b += k * normal(&mut rng);
+            let x = b + n * normal(&mut rng);
+            c.commit(x);
+        }
+        let tau = c.optimal_block().unwrap();
+        assert!((512.0..=8192.0).contains(&tau), "τ* {tau}");
+    }
+
+    #[test]
+    fn startup_sigma_ignores_fast_motion_and_nothing_is_known_before_eight_differences() {
+        let mut c = NoiseCalibration::new();
+        let x = white(40, 0.1, 3);
+        for (i, &v) in x.iter().enumerate() {
+            assert_eq!(c.is_known(), i > STARTUP_MIN_DIFFS, "at {i}");
+            // Every fifth sample rides on a fast ramp: large differences the median ignores.
+            c.observe(v + if i % 5 == 0 { 5.0 * i as f64 } else { 0.0 });
+        }
+        let s = c.sample_variance().unwrap().sqrt();
+        assert!(s > 0.05 && s < 0.4, "σ {s}");
+    }
+}

@@ -1,0 +1,295 @@
+//! The statistical static detector (issue 13, item 3). Per axis it tests the residual
+//! r = ω − b̂ (b̂: the drift estimate for the sample, of variance P) against the axis' own
+//! noise ([`NoiseCalibration`]), with one knob: the false-alarm probability α of each test.
+//!
+//! - **Mean shift** over each window W (default 0.5, 2, 10, 30, 60 s): the mean r̄ of the last
+//!   n = min(W/T, samples since the last alarm) samples fires when r̄² > z²·(v(n) + P), z the
+//!   two-sided normal quantile of α and v(n) the calibrated variance of an n-sample mean (Allan
+//!   variance, so bias instability and quantisation are accounted for). Short windows catch
+//!   turns at once; long ones catch slow rotations of a few σ/√n. Windows never reach back past
+//!   the last alarm, so a finished motion does not keep the long windows firing.
+//! - **Variance** over the last `variance_window_s` (2 s): n·s²/σ² above the χ²(n − 1) quantile
+//!   of α (vibration, oscillation with zero mean).
+//!
+//! A sample on which any test of any axis fires is an *alarm*. Moving = an alarm, the
+//! publisher's flag, or fewer than `settle_s` seconds since the last alarm (hysteresis: static
+//! again only after a clean stretch).
+//!
+//! **Delayed commit and look-back.** When an alarm follows a static stretch, the motion began
+//! before it was found: about as far back as the shortest window that fired. That window plus
+//! `guard_s` of the newest pending samples are discarded; the older ones are committed. A static
+//! sample is otherwise committed once `max window + guard_s` seconds have followed it, so no
+//! sample that a later look-back could discard has reached the estimator.
+//!
+//! Before the axis' noise is known (fewer than 8 sample differences), or while an axis has no
+//! drift estimate of finite variance, no test can run: the windows restart and the samples are
+//! taken as static (there is nothing to compare them with).
+
+use super::{Decision, DetectorCounters, DetectorInput, MotionDetector};
+use crate::model::normal::{chi2_upper, two_sided_z};
+
+/// Longest window, settle or guard span, samples (longer ones are cut to it: at 1 kHz 17 min).
+pub const MAX_WINDOW_SAMPLES: usize = 1 << 20;
+/// Commit delay (samples) while the windows are not sized yet.
+pub const UNSIZED_DELAY: usize = 63;
+
+/// Settings of the statistical detector (`[motion]` in the configuration); none is in deg/s.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StatisticalConfig {
+    /// False-alarm probability of each test on each sample.
+    pub false_alarm: f64,
+    /// Mean-shift windows, seconds, ascending.
+    pub windows_s: Vec<f64>,
+    /// Variance-test window, seconds.
+    pub variance_window_s: f64,
+    /// Hysteresis: seconds after the last alarm that are still moving.
+    pub settle_s: f64,
+    /// Extra pending seconds discarded before a detected onset.
+    pub guard_s: f64,
+}
+
+impl Default for StatisticalConfig {
+    fn default() -> Self {
+        Self {
+            false_alarm: 1e-5,
+            windows_s: vec![0.5, 2.0, 10.0, 30.0, 60.0],
+            variance_window_s: 2.0,
+            settle_s: 5.0,
+            guard_s: 2.0,
+        }
+    }
+}
+
+impl StatisticalConfig {
+    /// Checks the values; the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.false_alarm > 0.0 && self.false_alarm < 0.5) {
+            return Err(format!("motion.false_alarm: {} must lie in (0, 0.5)", self.false_alarm));
+        }
+        if self.windows_s.is_empty() || self.windows_s.len() > 16 {
+            return Err("motion.windows_s: give 1 to 16 windows".into());
+        }
+        if self.windows_s.iter().any(|w| !(w.is_finite() && *w > 0.0 && *w <= 3600.0))
+            || self.windows_s.windows(2).any(|p| p[1] <= p[0])
+        {
+            return Err(format!("motion.windows_s: {:?} must be ascending, each in (0, 3600] s", self.windows_s));
+        }
+        for (key, v) in [("variance_window_s", self.variance_window_s), ("settle_s", self.settle_s), ("guard_s", self.guard_s)] {
+            if !(v.is_finite() && (0.0..=3600.0).contains(&v)) {
+                return Err(format!("motion.{key}: {v} must lie in [0, 3600] s"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Prefix sums of r and r² since the last reset, in a ring (the window means are differences).
+#[derive(Debug, Clone, Default)]
+struct PrefixRing {
+    sum: Vec<f64>,
+    sum_sq: Vec<f64>,
+    head: usize,
+    s: f64,
+    s2: f64,
+}
+
+impl PrefixRing {
+    fn with_capacity(n: usize) -> Self {
+        Self { sum: vec![0.0; n], sum_sq: vec![0.0; n], ..Self::default() }
+    }
+
+    fn reset(&mut self) {
+        self.s = 0.0;
+        self.s2 = 0.0;
+    }
+
+    fn push(&mut self, r: f64) {
+        self.s += r;
+        self.s2 += r * r;
+        self.head = (self.head + 1) % self.sum.len();
+        self.sum[self.head] = self.s;
+        self.sum_sq[self.head] = self.s2;
+    }
+
+    /// Σr and Σr² over the newest `n` samples, `n` ≤ samples since the reset and < capacity
+    /// (`n` equal to the samples since the reset reads the reset's zero).
+    fn window(&self, n: usize, since_reset: usize) -> (f64, f64) {
+        if n >= since_reset {
+            return (self.s, self.s2);
+        }
+        let cap = self.sum.len();
+        let i = (self.head + cap - n) % cap;
+        (self.s - self.sum[i], self.s2 - self.sum_sq[i])
+    }
+}
+
+/// The statistical detector (module documentation).
+#[derive(Debug, Clone)]
+pub struct StatisticalDetector {
+    config: StatisticalConfig,
+    z2: f64,
+    /// Window lengths in samples (empty until the period is known).
+    windows: Vec<usize>,
+    variance_window: usize,
+    /// χ²(n − 1) upper quantiles for n = 0 … variance_window (0 where undefined).
+    chi2: Vec<f64>,
+    settle: usize,
+    guard: usize,
+    delay: usize,
+    rings: [PrefixRing; 3],
+    /// Accepted samples since the last alarm (or since start).
+    since_alarm: usize,
+    moving: bool,
+    counters: DetectorCounters,
+}
+
+impl StatisticalDetector {
+    /// A detector whose windows are sized once [`MotionDetector::set_period`] is called.
+    pub fn new(config: StatisticalConfig) -> Self {
+        let z = two_sided_z(config.false_alarm);
+        Self {
+            z2: z * z,
+            config,
+            windows: Vec::new(),
+            variance_window: 0,
+            chi2: Vec::new(),
+            settle: 0,
+            guard: 0,
+            delay: 0,
+            rings: Default::default(),
+            since_alarm: 0,
+            moving: false,
+            counters: DetectorCounters::default(),
+        }
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &StatisticalConfig {
+        &self.config
+    }
+
+    /// The shortest window (samples) whose test fires on this sample, across axes; `None` when
+    /// none does. `n` is truncated at the last alarm.
+    fn fired(&self, input: &DetectorInput<'_>) -> Option<usize> {
+        let since = self.since_alarm;
+        let mut shortest: Option<usize> = None;
+        for k in 0..3 {
+            let noise = &input.noise[k];
+            let p = input.drift[k].variance;
+            if !p.is_finite() {
+                continue;
+            }
+            let ring = &self.rings[k];
+            for &w in &self.windows {
+                let n = w.min(since);
+                if n == 0 || shortest.is_some_and(|s| s <= n) {
+                    continue;
+                }
+                let Some(v) = noise.mean_variance(n) else { continue };
+                let (s, _) = ring.window(n, since);
+                let mean = s / n as f64;
+                if mean * mean > self.z2 * (v + p) {
+                    shortest = Some(n);
+                }
+            }
+            let n = self.variance_window.min(since);
+            if n >= 2
+                && shortest.is_none_or(|s| s > n)
+                && let Some(s2) = noise.sample_variance()
+            {
+                let (s, ss) = ring.window(n, since);
+                let scatter = ss - s * s / n as f64;
+                if scatter / s2 > self.chi2[n] {
+                    shortest = Some(n);
+                }
+            }
+        }
+        shortest
+    }
+}
+
+impl MotionDetector for StatisticalDetector {
+    fn name(&self) -> &'static str {
+        "statistical"
+    }
+
+    fn push(&mut self, input: &DetectorInput<'_>) -> Decision {
+        if self.windows.is_empty() {
+            // Period not known yet: nothing to size the windows with.
+            return Decision { moving: input.publisher_moving, discard: 0, flush: input.publisher_moving };
+        }
+        if input.drift.iter().any(|d| !d.variance.is_finite()) {
+            // No drift estimate to test against yet: a residual against an unknown bias would
+            // stay in the windows and fire once one exists. Start the windows afresh instead.
+            for ring in &mut self.rings {
+                ring.reset();
+            }
+            self.since_alarm = 0;
+            let flush = input.publisher_moving && !self.moving;
+            self.moving = input.publisher_moving;
+            return Decision { moving: self.moving, discard: 0, flush };
+        }
+        for k in 0..3 {
+            self.rings[k].push(input.rate[k] - input.drift[k].drift);
+        }
+        self.since_alarm += 1;
+        let fired = self.fired(input);
+        let was_moving = self.moving;
+        let alarm = fired.is_some() || input.publisher_moving;
+        if fired.is_some() {
+            self.counters.alarms += 1;
+        }
+        let mut decision = Decision::default();
+        if alarm {
+            if !was_moving {
+                self.counters.onsets += 1;
+                // Look back: discard what the firing window spans (the publisher knows its own
+                // onsets: nothing to discard for a flag alone).
+                decision.discard = fired.map_or(0, |n| n + self.guard);
+            }
+            decision.flush = !was_moving;
+            for ring in &mut self.rings {
+                ring.reset();
+            }
+            self.since_alarm = 0;
+            self.moving = true;
+        } else if self.moving && self.since_alarm >= self.settle {
+            self.moving = false;
+        } else if self.moving {
+            self.counters.settling += 1;
+        }
+        decision.moving = self.moving;
+        decision
+    }
+
+    /// Before the period is known the samples wait too (a start-up hold of
+    /// [`UNSIZED_DELAY`] samples; the period is measured within the first ten).
+    fn commit_delay(&self) -> usize {
+        if self.windows.is_empty() { UNSIZED_DELAY } else { self.delay }
+    }
+
+    fn set_period(&mut self, period_s: f64) {
+        let samples = |s: f64| ((s / period_s).round().min(MAX_WINDOW_SAMPLES as f64) as usize).max(1);
+        self.windows = self.config.windows_s.iter().map(|&w| samples(w)).collect();
+        self.windows.dedup();
+        self.variance_window = if self.config.variance_window_s > 0.0 { samples(self.config.variance_window_s).max(2) } else { 0 };
+        self.chi2 = (0..=self.variance_window)
+            .map(|n| if n >= 2 { chi2_upper((n - 1) as f64, self.config.false_alarm) } else { 0.0 })
+            .collect();
+        let span = |s: f64| (s / period_s).round().min(MAX_WINDOW_SAMPLES as f64) as usize;
+        self.settle = span(self.config.settle_s);
+        self.guard = span(self.config.guard_s);
+        let longest = self.windows.iter().copied().max().unwrap_or(1).max(self.variance_window);
+        self.delay = longest + self.guard;
+        self.rings = std::array::from_fn(|_| PrefixRing::with_capacity(longest + 1));
+        self.since_alarm = 0;
+    }
+
+    fn counters(&self) -> DetectorCounters {
+        self.counters
+    }
+
+    fn longest_window(&self) -> usize {
+        self.windows.iter().copied().max().unwrap_or(1)
+    }
+}

@@ -1,0 +1,55 @@
+//! The fixed-threshold gate as a [`MotionDetector`]: [`MotionGate`] with the drift estimate as
+//! its rate reference (once every axis has one of finite variance), commit delay 0.
+
+use super::{Decision, DetectorCounters, DetectorInput, MotionDetector};
+use crate::stream::motion_gate::{MotionConfig, MotionGate};
+
+/// Threshold gate (module documentation).
+#[derive(Debug, Clone)]
+pub struct ThresholdDetector {
+    gate: MotionGate,
+    counters: DetectorCounters,
+    was_moving: bool,
+}
+
+impl ThresholdDetector {
+    /// A gate with these thresholds.
+    pub fn new(config: MotionConfig) -> Self {
+        Self { gate: MotionGate::new(config), counters: DetectorCounters::default(), was_moving: false }
+    }
+}
+
+impl MotionDetector for ThresholdDetector {
+    fn name(&self) -> &'static str {
+        "threshold"
+    }
+
+    fn push(&mut self, input: &DetectorInput<'_>) -> Decision {
+        let d = input.drift;
+        let reference = d.iter().all(|e| e.variance.is_finite()).then(|| [d[0].drift, d[1].drift, d[2].drift]);
+        let moving = self.gate.push(input.rate, reference.as_ref(), input.publisher_moving);
+        if moving && !input.publisher_moving {
+            self.counters.alarms += 1;
+        }
+        if moving && !self.was_moving {
+            self.counters.onsets += 1;
+        }
+        self.was_moving = moving;
+        Decision { moving, discard: 0, flush: false }
+    }
+
+    fn commit_delay(&self) -> usize {
+        0
+    }
+
+    fn set_period(&mut self, _period_s: f64) {}
+
+    fn counters(&self) -> DetectorCounters {
+        self.counters
+    }
+
+    /// See [`MotionGate::reconfigure`].
+    fn reconfigure_thresholds(&mut self, config: MotionConfig) {
+        self.gate.reconfigure(config);
+    }
+}

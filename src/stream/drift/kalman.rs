@@ -1,0 +1,169 @@
+//! The Kalman bias tracker (issue 13, item 4): per axis, the drift is a random walk b_k =
+//! b_{k−1} + w_k, w ~ N(0, Q) per sample, observed by committed static samples z_k = b_k + v_k,
+//! v ~ N(0, R). Scalar Kalman filter (Kalman 1960; e.g. Groves, *Principles of GNSS, Inertial and
+//! Multisensor Integrated Navigation*, 2nd ed., §3.2):
+//! time update P ← P + Q·Δk; gain G = P/(P + R); b ← b + G(z − b); P ← (1 − G)P.
+//!
+//! Noise from the unit itself ([`NoiseCalibration`]): R = the white-noise variance per sample
+//! (N² over the sample period, from the online Allan variance); Q = 3R/m\*² with m\* the
+//! averaging time (samples) of the Allan minimum, i.e. the rate random walk K_eff = √3·N/τ\*
+//! whose curve N²/τ + K²τ/3 has its minimum at the measured τ\*. So the filter averages for
+//! about m\*/√3 samples: as long as the unit's own Allan curve says averaging still helps. Before
+//! any Allan level is trusted Q = 0: a plain cumulative mean, i.e. start-up bias-hold.
+//!
+//! Delayed commit: the state is that of the last committed sample; [`KalmanBias::predict`]
+//! propagates it to now. Pending samples (seen as static, not yet confirmed) are used only before
+//! the first commit, as their plain mean (the start-up alignment). Fusing them later as well
+//! was tried and dropped: a slow rotation that the detector has not yet found then pulls the
+//! reference r = ω − b̂ along with it, so the detector never finds it (on ADIS run 1 with the
+//! mixed profile the estimate absorbed a 1 deg/s rotation that way).
+//!
+//! Innovation gate: a committed sample whose normalised innovation squared ν²/(P + R) exceeds
+//! the χ²(1) quantile of the configured tail probability is not used (a spike or slow motion the
+//! detector missed), and counted; the NIS sum over all commits is kept for consistency checks
+//! (its mean is ≈ 1 when Q and R fit the data).
+
+use super::{DriftEstimate, DriftEstimator, PendingMean};
+use crate::model::normal::chi2_upper;
+use crate::stream::calibration::NoiseCalibration;
+use crate::stream::snapshot::AxisWarm;
+
+/// Innovation statistics of a [`KalmanBias`].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct KalmanCounters {
+    /// Committed samples offered.
+    pub commits: u64,
+    /// Of those, refused by the innovation gate.
+    pub gated: u64,
+    /// Σ ν²/(P + R) over the offered commits after the first.
+    pub nis_sum: f64,
+    /// Terms in `nis_sum`.
+    pub nis_count: u64,
+}
+
+impl KalmanCounters {
+    /// Mean normalised innovation squared (≈ 1 for a consistent filter); `None` before any.
+    pub fn mean_nis(&self) -> Option<f64> {
+        (self.nis_count > 0).then(|| self.nis_sum / self.nis_count as f64)
+    }
+}
+
+/// Random-walk bias tracker of one axis (module documentation).
+#[derive(Debug, Clone)]
+pub struct KalmanBias {
+    bias: f64,
+    /// Variance of `bias`; +∞ before the first commit.
+    variance: f64,
+    last_index: u64,
+    q: f64,
+    r: f64,
+    calibration_version: u64,
+    gate_nis: f64,
+    counters: KalmanCounters,
+}
+
+impl KalmanBias {
+    /// A tracker with no data; `gate_probability` is the innovation gate's χ²(1) tail.
+    pub fn new(gate_probability: f64) -> Self {
+        Self {
+            bias: 0.0,
+            variance: f64::INFINITY,
+            last_index: 0,
+            q: 0.0,
+            r: f64::NAN,
+            calibration_version: u64::MAX,
+            gate_nis: chi2_upper(1.0, gate_probability),
+            counters: KalmanCounters::default(),
+        }
+    }
+
+    /// Takes Q and R from the calibration when it changed.
+    fn recalibrate(&mut self, noise: &NoiseCalibration) {
+        if noise.version() == self.calibration_version {
+            return;
+        }
+        self.calibration_version = noise.version();
+        if let Some(r) = noise.white_variance() {
+            // A constant input (an axis the recording lacks) has zero noise: keep R positive so
+            // the gain stays defined.
+            let r = r.max(f64::MIN_POSITIVE);
+            self.r = r;
+            self.q = noise.optimal_block().map_or(0.0, |m| 3.0 * r / (m * m));
+        }
+    }
+
+    /// Process noise per sample and measurement noise, (deg/s)² (NaN R before calibration).
+    pub fn noise(&self) -> (f64, f64) {
+        (self.q, self.r)
+    }
+}
+
+impl DriftEstimator for KalmanBias {
+    fn name(&self) -> &'static str {
+        "kalman"
+    }
+
+    fn predict(&mut self, now: u64, pending: PendingMean, noise: &NoiseCalibration) -> DriftEstimate {
+        self.recalibrate(noise);
+        if self.variance.is_finite() {
+            let p = self.variance + self.q * now.saturating_sub(self.last_index) as f64;
+            return DriftEstimate { drift: self.bias, variance: p, from_model: true };
+        }
+        // Nothing committed yet (start-up): the mean of the pending samples.
+        match pending.count {
+            0 => DriftEstimate { drift: 0.0, variance: f64::INFINITY, from_model: false },
+            n => {
+                let variance = if self.r.is_finite() { self.r / n as f64 } else { f64::INFINITY };
+                DriftEstimate { drift: pending.sum / n as f64, variance, from_model: false }
+            }
+        }
+    }
+
+    fn commit(&mut self, index: u64, raw: f64, noise: &NoiseCalibration) {
+        self.recalibrate(noise);
+        self.counters.commits += 1;
+        if !self.r.is_finite() {
+            // No noise figure yet (cannot happen after a commit fed the calibration first).
+            return;
+        }
+        if !self.variance.is_finite() {
+            self.bias = raw;
+            self.variance = self.r;
+            self.last_index = index;
+            return;
+        }
+        let p = self.variance + self.q * index.saturating_sub(self.last_index) as f64;
+        let s = p + self.r;
+        let nu = raw - self.bias;
+        let nis = nu * nu / s;
+        self.counters.nis_sum += nis;
+        self.counters.nis_count += 1;
+        self.last_index = index;
+        if nis > self.gate_nis {
+            self.counters.gated += 1;
+            self.variance = p;
+            return;
+        }
+        let g = p / s;
+        self.bias += g * nu;
+        self.variance = (1.0 - g) * p;
+    }
+
+    fn warm(&self, warm: &mut AxisWarm) {
+        warm.bias = self.bias;
+        warm.variance = self.variance;
+        warm.bias_count = self.counters.commits;
+        warm.last_commit = self.last_index;
+    }
+
+    fn restore(&mut self, warm: &AxisWarm) {
+        self.bias = warm.bias;
+        self.variance = warm.variance;
+        self.counters.commits = warm.bias_count;
+        self.last_index = warm.last_commit;
+    }
+
+    fn kalman_counters(&self) -> Option<KalmanCounters> {
+        Some(self.counters)
+    }
+}

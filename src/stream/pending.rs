@@ -1,0 +1,124 @@
+//! The pending queue of delayed commit ([`super::detector`]): static samples seen but not yet
+//! confirmed, oldest first, with the running sum of each axis (for the estimators' provisional
+//! use, [`PendingMean`]). A ring allocated once for the detector's commit delay.
+
+use super::drift::PendingMean;
+
+/// Pending static samples (module documentation).
+#[derive(Debug, Clone)]
+pub struct PendingQueue {
+    index: Vec<u64>,
+    rate: Vec<[f64; 3]>,
+    /// Position of the oldest entry.
+    head: usize,
+    len: usize,
+    sum: [f64; 3],
+}
+
+impl PendingQueue {
+    /// Room for `delay` pending samples plus the one being pushed.
+    pub fn new(delay: usize) -> Self {
+        let cap = delay + 1;
+        Self { index: vec![0; cap], rate: vec![[0.0; 3]; cap], head: 0, len: 0, sum: [0.0; 3] }
+    }
+
+    /// Resizes for a new delay (the period became known); pending samples are kept, oldest
+    /// first, as far as they fit.
+    pub fn set_capacity(&mut self, delay: usize) {
+        let mut next = Self::new(delay);
+        while let Some((i, r)) = self.pop_oldest() {
+            if next.len < next.index.len() {
+                next.push(i, r);
+            }
+        }
+        *self = next;
+    }
+
+    /// Samples pending.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether nothing is pending.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Count and sum of the pending samples of axis `k`.
+    pub fn mean(&self, k: usize) -> PendingMean {
+        PendingMean { count: self.len as u64, sum: self.sum[k] }
+    }
+
+    /// Appends a sample (the caller pops before the ring overflows: at most `delay + 1`).
+    pub fn push(&mut self, index: u64, rate: [f64; 3]) {
+        let cap = self.index.len();
+        debug_assert!(self.len < cap, "pending queue overflow");
+        let slot = (self.head + self.len) % cap;
+        self.index[slot] = index;
+        self.rate[slot] = rate;
+        self.len += 1;
+        for (s, r) in self.sum.iter_mut().zip(rate) {
+            *s += r;
+        }
+    }
+
+    /// Removes and returns the oldest sample.
+    pub fn pop_oldest(&mut self) -> Option<(u64, [f64; 3])> {
+        if self.len == 0 {
+            return None;
+        }
+        let out = (self.index[self.head], self.rate[self.head]);
+        self.head = (self.head + 1) % self.index.len();
+        self.len -= 1;
+        self.subtract(&out.1);
+        Some(out)
+    }
+
+    /// Drops the newest `n` samples (fewer when fewer are pending); returns how many.
+    pub fn drop_newest(&mut self, n: usize) -> usize {
+        let n = n.min(self.len);
+        let cap = self.index.len();
+        for _ in 0..n {
+            let slot = (self.head + self.len - 1) % cap;
+            let r = self.rate[slot];
+            self.len -= 1;
+            self.subtract(&r);
+        }
+        n
+    }
+
+    fn subtract(&mut self, rate: &[f64; 3]) {
+        if self.len == 0 {
+            // Exactly zero when empty: no rounding residue carried into the next static stretch.
+            self.sum = [0.0; 3];
+        } else {
+            for (s, r) in self.sum.iter_mut().zip(rate) {
+                *s -= r;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fifo_order_sums_and_look_back() {
+        let mut q = PendingQueue::new(3);
+        for i in 0..4 {
+            q.push(i, [i as f64, 1.0, 0.0]);
+        }
+        assert_eq!(q.mean(0), PendingMean { count: 4, sum: 6.0 });
+        assert_eq!(q.pop_oldest(), Some((0, [0.0, 1.0, 0.0])));
+        assert_eq!(q.drop_newest(1), 1);
+        assert_eq!(q.mean(0), PendingMean { count: 2, sum: 3.0 });
+        q.push(9, [5.0, 0.0, 0.0]);
+        assert_eq!(q.pop_oldest().map(|p| p.0), Some(1));
+        assert_eq!(q.pop_oldest().map(|p| p.0), Some(2));
+        assert_eq!(q.pop_oldest().map(|p| p.0), Some(9));
+        assert!(q.is_empty());
+        assert_eq!(q.mean(0).sum, 0.0);
+        assert_eq!(q.drop_newest(5), 0);
+    }
+}

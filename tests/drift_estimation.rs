@@ -1,0 +1,153 @@
+//! Properties of the default drift path (issue 13): the Kalman bias tracker behind the
+//! statistical detector, with the rate measured from the timestamps and no per-sensor key.
+//! Seeded simulated recordings with injected motion; seeds 7–9 are used nowhere else (the
+//! method's constants were chosen on seeds 100–105, its figures reported on the ADIS runs).
+
+use gyrocomp::config::Config;
+use gyrocomp::eval::{BaselineSettings, MotionModel, MotionRun, run_motion_model};
+use gyrocomp::sim::{Generator, MotionKind, MotionPlan, Preset, SimConfig};
+use gyrocomp::stream::{InputSample, OutputSample, Pipeline, STATUS_MOVING};
+
+/// A recording of `preset` (`rate_hz`, `duration_s`, seed) with `kind` motion (same seed) added
+/// to axis x: (inputs without flags, truth, moving flags).
+fn recording(sim: &SimConfig, seed: u64, kind: MotionKind) -> (Vec<InputSample>, Vec<f64>, Vec<bool>, Vec<f64>) {
+    let out = Generator::generate(sim, seed).unwrap();
+    let t_rel: Vec<f64> = out.t_s.iter().map(|t| t - out.t_s[0]).collect();
+    let plan = MotionPlan::plan(kind, seed, *t_rel.last().unwrap(), 0.5).unwrap();
+    let (truth, moving) = plan.render(&t_rel);
+    let inputs = (0..out.t_s.len())
+        .map(|k| {
+            let rate = [out.axes[0].raw[k] + truth[k], out.axes[1].raw[k], out.axes[2].raw[k]];
+            InputSample::new(k as u64, (out.t_s[k] * 1e9).round() as u64, rate)
+        })
+        .collect();
+    (inputs, truth, moving.iter().map(|&m| m > 0.5).collect(), out.t_s)
+}
+
+fn adis(rate_hz: f64, duration_s: f64) -> SimConfig {
+    let mut sim = Preset::Adis16405.config();
+    sim.rate_hz = rate_hz;
+    sim.duration_s = duration_s;
+    sim
+}
+
+struct Scored {
+    median: f64,
+    run: f64,
+}
+
+fn score(config: &Config, model: MotionModel, run: &MotionRun, inputs: &[InputSample], moving: &[bool]) -> Scored {
+    let baselines = BaselineSettings { startup_s: 60.0, highpass_hz: 0.001 };
+    let out = run_motion_model(model, config, run, inputs, moving, baselines, &mut |_| {}).unwrap();
+    let s = run.score(&out.compensated).unwrap();
+    Scored { median: s.angle_err_deg_median.unwrap(), run: s.angle_err_deg_run }
+}
+
+#[test]
+fn the_default_estimator_beats_bias_hold_and_the_ungated_predictor_on_unseen_seeds() {
+    let config = Config::default();
+    let tactical = SimConfig::from_toml(include_str!("../configs/sim/tactical.toml")).unwrap();
+    // (recording, seed, bound on gyrocomp's per-turn median as a multiple of bias-hold's)
+    for (sim, seed, per_turn_bound) in [(adis(10.0, 4000.0), 7, 1.0), (adis(100.0, 1500.0), 8, 1.5), (tactical, 9, 1.0)] {
+        let (inputs, truth, moving, t_s) = recording(&sim, seed, MotionKind::Turns);
+        let raw: Vec<f64> = inputs.iter().map(|s| s.rate_dps[0]).collect();
+        let run = MotionRun::new(t_s, raw, truth, &moving).unwrap();
+        let ours = score(&config, MotionModel::Gyrocomp, &run, &inputs, &moving);
+        let hold = score(&config, MotionModel::BiasHold, &run, &inputs, &moving);
+        let ungated = score(&config, MotionModel::Persistence, &run, &inputs, &moving);
+        let floor = run.white_noise_floor(run.sensor_arw().unwrap());
+        let floor = gyrocomp::model::metrics::quantile(&floor, 0.5).unwrap();
+        let at = format!("{} Hz seed {seed}", sim.rate_hz);
+        eprintln!(
+            "{at}: median per turn gyrocomp {:.3}, bias-hold {:.3}, persistence {:.3}, floor {floor:.3}; run {:.2} / {:.2}",
+            ours.median, hold.median, ungated.median, ours.run, hold.run
+        );
+        // Per turn the tracker beats bias-hold at 10 Hz; at 100 Hz it does not (README "Where it
+        // loses": measured 1.2× on this seed and on the main job's), held to a regression bound.
+        assert!(ours.median < per_turn_bound * hold.median, "{at}: {} vs bias-hold {}", ours.median, hold.median);
+        assert!(ours.median < 0.2 * ungated.median, "{at}: {} vs persistence {}", ours.median, ungated.median);
+        if seed == 7 {
+            // Over 4000 s the bias wanders away from the start-up mean; the tracker follows it.
+            // (Over the 1500 s run at 100 Hz both stay within about a degree: 1.2 against 0.7.)
+            assert!(ours.run < 0.2 * hold.run, "{at}: run {} vs bias-hold {}", ours.run, hold.run);
+        }
+        // Nothing removes the white noise integrated over a turn; the tracker stays near it.
+        assert!(ours.median < 2.0 * floor && ours.median > 0.7 * floor, "{at}: {} vs floor {floor}", ours.median);
+    }
+}
+
+fn process(config: &Config, inputs: &[InputSample]) -> (Pipeline, Vec<OutputSample>) {
+    let mut p = Pipeline::new(config.pipeline().unwrap()).unwrap();
+    let out = inputs.iter().map(|s| p.process(s)).collect();
+    (p, out)
+}
+
+#[test]
+fn the_detector_finds_turns_at_once_and_keeps_false_alarms_rare() {
+    let sim = adis(10.0, 4000.0);
+    let (inputs, truth, moving, _) = recording(&sim, 9, MotionKind::Turns);
+    let (p, out) = process(&Config::default(), &inputs);
+    let flagged: Vec<bool> = out.iter().map(|o| o.status & STATUS_MOVING != 0).collect();
+    // Leaks: samples turning faster than 2 deg/s (≈ 16σ of one sample) output as static — the
+    // detection latency at a turn's onset (those samples are then discarded by the look-back, so
+    // they never reach the estimate; their effect is in the angle errors above).
+    let fast = truth.iter().filter(|t| t.abs() > 2.0).count();
+    let leaked = truth.iter().zip(&flagged).filter(|(t, f)| t.abs() > 2.0 && !**f).count();
+    // False alarms: static samples flagged moving, not within a motion or the 10 s after it
+    // (settle_s = 5 s of hysteresis plus the tails of a sin² turn).
+    let after = 100; // 10 s at 10 Hz
+    let mut near = vec![false; moving.len()];
+    for (i, &m) in moving.iter().enumerate() {
+        if m {
+            near[i..(i + after).min(moving.len())].iter_mut().for_each(|v| *v = true);
+        }
+    }
+    let quiet = near.iter().filter(|n| !**n).count();
+    let false_alarms = near.iter().zip(&flagged).filter(|(n, f)| !**n && **f).count();
+    let stats = p.stats();
+    eprintln!(
+        "fast {fast}, leaked {leaked}; quiet {quiet}, false alarms {false_alarms}; onsets {}, committed {}, discarded {}",
+        stats.detector.onsets, stats.committed, stats.discarded
+    );
+    assert!(fast > 1000 && quiet > 1000, "the profile has both ({fast}, {quiet})");
+    assert!((leaked as f64) < 0.005 * fast as f64, "{leaked} of {fast} fast samples leaked");
+    assert!((false_alarms as f64) < 0.05 * quiet as f64, "{false_alarms} of {quiet} quiet samples flagged");
+    // Every motion of the profile starts an onset; spurious onsets stay few.
+    let motions = gyrocomp::eval::motion::segments(&moving).len() as u64;
+    assert!(stats.detector.onsets >= motions / 2 && stats.detector.onsets <= 3 * motions, "{stats:?} vs {motions}");
+}
+
+#[test]
+fn the_kalman_innovations_match_its_own_variances() {
+    // White noise plus a rate random walk, no motion: the filter's model is right, so the
+    // normalised innovation squared averages 1 (χ²(1)).
+    let mut sim = SimConfig::from_toml(
+        "rate_hz = 100.0\nduration_s = 2000.0\n[axis]\nbias_dps = 0.3\narw_deg_rt_h = 3.0\nrrw_deg_h_rt_h = 30.0\n",
+    )
+    .unwrap();
+    sim.duration_s = 2000.0;
+    let out = Generator::generate(&sim, 11).unwrap();
+    let inputs: Vec<InputSample> = (0..out.t_s.len())
+        .map(|k| {
+            let rate = [out.axes[0].raw[k], out.axes[1].raw[k], out.axes[2].raw[k]];
+            InputSample::new(k as u64, (out.t_s[k] * 1e9).round() as u64, rate)
+        })
+        .collect();
+    // The filter alone: a threshold gate that never fires, so every sample is committed.
+    let mut config = Config::default();
+    config.motion.detector = gyrocomp::stream::DetectorKind::Threshold;
+    config.motion.rate_dps = 1e9;
+    config.motion.variance_dps2 = 1e9;
+    let (p, _) = process(&config, &inputs);
+    for axis in 0..3 {
+        let k = p.estimator(axis).unwrap().kalman_counters().unwrap();
+        let nis = k.mean_nis().unwrap();
+        let n = p.noise(axis).unwrap();
+        eprintln!("axis {axis}: mean NIS {nis:.4} over {} commits, {} gated; m* {:?} R {:?}", k.nis_count, k.gated, n.optimal_block(), n.white_variance());
+        assert!(k.nis_count > 150_000, "{k:?}");
+        // An R or Q off by 2× would give about 0.5 or 2.
+        assert!((nis - 1.0).abs() < 0.1, "axis {axis}: mean NIS {nis}");
+        assert!(k.gated < 20, "{k:?}");
+    }
+    assert_eq!(p.period_s(), Some(0.01), "rate measured from the timestamps");
+}
