@@ -193,6 +193,10 @@ fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
     // Moving samples enter no buffer, but the static history is still there: the request after
     // 800 samples is served too.
     assert_eq!((stopping.model_version, stopping.send_failures), (4, 0));
+    // The detector's counters travel on the status service (StatusSample.v2): the threshold gate
+    // commits at once (700 static samples), and its one onset is the reload's motion.
+    assert_eq!((stopping.committed, stopping.discarded, stopping.detector_onsets), (700, 0, 1), "{stopping:?}");
+    assert_eq!(stopping.detector_alarms, 200, "{stopping:?}");
 }
 
 #[test]
@@ -246,6 +250,12 @@ fn python_client_through_the_daemon() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "python client failed\nstdout:\n{stdout}\nstderr:\n{stderr}");
     assert!(stdout.contains("received 500/500 compensated samples, in order: True"), "{stdout}");
+    // The drift standard deviation (CompSample.v2) arrives: finite once the estimate exists.
+    let finite: usize = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("drift std: ")?.split('/').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no drift std line in {stdout}"));
+    assert!(finite > 1400 && stdout.contains("none NaN or negative: True"), "{stdout}");
     daemon.signal("TERM");
     let exit = daemon.wait(Duration::from_secs(10));
     assert!(exit.success(), "gyrocompd exited with {exit}");

@@ -104,7 +104,7 @@ fn wire_layout_matches_design() {
         ],
         [0, 8, 16, 40, 48, 52]
     );
-    assert_eq!(size_of::<CompSample>(), 80);
+    assert_eq!(size_of::<CompSample>(), 104);
     assert_eq!(
         [
             offset_of!(CompSample, seq),
@@ -113,16 +113,17 @@ fn wire_layout_matches_design() {
             offset_of!(CompSample, drift_dps),
             offset_of!(CompSample, model_version),
             offset_of!(CompSample, status),
-            offset_of!(CompSample, _pad)
+            offset_of!(CompSample, _pad),
+            offset_of!(CompSample, drift_std_dps)
         ],
-        [0, 8, 16, 40, 64, 72, 76]
+        [0, 8, 16, 40, 64, 72, 76, 80]
     );
-    assert_eq!(size_of::<StatusSample>(), 160);
+    assert_eq!(size_of::<StatusSample>(), 192);
     // SAFETY: type_name only returns a string constant.
     unsafe {
         assert_eq!(<RawSample as ZeroCopySend>::type_name(), "gyrocomp::RawSample");
-        assert_eq!(<CompSample as ZeroCopySend>::type_name(), "gyrocomp::CompSample");
-        assert_eq!(<StatusSample as ZeroCopySend>::type_name(), "gyrocomp::StatusSample");
+        assert_eq!(<CompSample as ZeroCopySend>::type_name(), "gyrocomp::CompSample.v2");
+        assert_eq!(<StatusSample as ZeroCopySend>::type_name(), "gyrocomp::StatusSample.v2");
     }
     let r = RawSample::new(3, 0, [0.0; 3]);
     assert!(r.temperature().is_none() && !r.is_moving());

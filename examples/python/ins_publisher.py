@@ -49,7 +49,7 @@ class RawSample(ctypes.Structure):
 
 
 class CompSample(ctypes.Structure):
-    """gyrocomp::CompSample (80 bytes)."""
+    """gyrocomp::CompSample.v2 (104 bytes): v1 plus the drift standard deviation per axis."""
 
     _fields_ = [
         ("seq", ctypes.c_uint64),
@@ -59,15 +59,16 @@ class CompSample(ctypes.Structure):
         ("model_version", ctypes.c_uint64),
         ("status", ctypes.c_uint32),
         ("_pad", ctypes.c_uint32),
+        ("drift_std_dps", ctypes.c_double * 3),
     ]
 
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name; must equal the Rust `#[type_name]`."""
-        return "gyrocomp::CompSample"
+        return "gyrocomp::CompSample.v2"
 
 
-assert ctypes.sizeof(RawSample) == 56 and ctypes.sizeof(CompSample) == 80
+assert ctypes.sizeof(RawSample) == 56 and ctypes.sizeof(CompSample) == 104
 
 
 def parse_args():
@@ -152,10 +153,12 @@ def main():
             if sample is None:
                 return
             c = sample.payload().contents
-            received.append((c.seq, tuple(c.rate_dps), tuple(c.drift_dps), c.model_version, c.status))
+            received.append((c.seq, tuple(c.rate_dps), tuple(c.drift_dps), c.model_version, c.status,
+                             tuple(c.drift_std_dps)))
             if not args.quiet:
                 print(f"seq {c.seq}: rate {c.rate_dps[0]:+.5f} {c.rate_dps[1]:+.5f} {c.rate_dps[2]:+.5f} dps, "
-                      f"drift {c.drift_dps[0]:+.5f}, model {c.model_version}, status {c.status:#x}")
+                      f"drift {c.drift_dps[0]:+.5f} ± {c.drift_std_dps[0]:.5f}, model {c.model_version}, "
+                      f"status {c.status:#x}")
 
     def publish(seq):
         rate = [args.bias_dps + rng.gauss(0.0, args.noise_dps) for _ in range(3)]
@@ -191,7 +194,11 @@ def main():
     seqs = [r[0] for r in received]
     in_order = seqs == list(range(len(seqs)))
     print(f"received {len(received)}/{args.count} compensated samples, in order: {in_order}")
-    return 0 if len(received) == args.count and in_order else 1
+    stds = [s for r in received for s in r[5]]
+    no_nan = all(s == s and s >= 0.0 for s in stds)
+    finite = sum(1 for s in stds if s != float("inf"))
+    print(f"drift std: {finite}/{len(stds)} finite, none NaN or negative: {no_nan}")
+    return 0 if len(received) == args.count and in_order and no_nan else 1
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@ pub fn output_from_comp(comp: &CompSample) -> OutputSample {
         drift_dps: comp.drift_dps,
         model_version: comp.model_version,
         status: comp.status,
+        drift_std_dps: comp.drift_std_dps,
     }
 }
 
@@ -44,6 +45,7 @@ pub fn comp_from_output(out: &OutputSample) -> CompSample {
         model_version: out.model_version,
         status: out.status,
         _pad: 0,
+        drift_std_dps: out.drift_std_dps,
     }
 }
 
@@ -94,6 +96,10 @@ pub fn status_sample(
         time_backwards: stats.input.time_backwards,
         seq_skipped: stats.input.seq_skipped,
         restarts: stats.input.restarts,
+        detector_onsets: stats.detector.onsets,
+        detector_alarms: stats.detector.alarms,
+        committed: stats.committed,
+        discarded: stats.discarded,
     }
 }
 
@@ -117,10 +123,12 @@ mod tests {
             drift_dps: [0.1; 3],
             model_version: 4,
             status: 0b1010,
+            drift_std_dps: [0.01, 0.02, f64::INFINITY],
         };
         let comp = comp_from_output(&out);
         assert_eq!((comp.seq, comp.t_ns, comp.model_version, comp.status, comp._pad), (7, 70, 4, 0b1010, 0));
         assert_eq!((comp.rate_dps, comp.drift_dps), ([0.5; 3], [0.1; 3]));
+        assert_eq!(comp.drift_std_dps, [0.01, 0.02, f64::INFINITY]);
         assert_eq!(output_from_comp(&comp), out);
         let back = raw_from_input(&input);
         assert_eq!((back.seq, back.t_ns, back.rate_dps, back.flags, back._pad), (7, 70, [1.0, 2.0, 3.0], 1, 0));

@@ -52,7 +52,7 @@ const STARTUP_MIN_DIFFS: usize = 8;
 /// σ of Gaussian noise per median absolute value: 1/Φ⁻¹(0.75).
 const MEDIAN_ABS_TO_SIGMA: f64 = 1.482_602_218_505_602;
 
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 struct Level {
     /// Sum of the block in progress.
     partial: f64,
@@ -65,14 +65,17 @@ struct Level {
     count: u64,
 }
 
-/// Online noise calibration of one axis (module documentation); allocation-free.
-#[derive(Debug, Clone)]
+/// Online noise calibration of one axis (module documentation); allocation-free after
+/// [`NoiseCalibration::new`]. Serialisable: a snapshot carries it, so a restarted pipeline keeps
+/// its noise figures.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct NoiseCalibration {
     levels: [Level; LEVELS],
     /// w(2^j) per level, extrapolated where untrusted (`None` until any σ is known).
     white_equiv: [f64; LEVELS],
     known: bool,
-    startup: [f64; STARTUP_DIFFS],
+    /// The first |Δx| (capacity [`STARTUP_DIFFS`], allocated once).
+    startup: Vec<f64>,
     startup_len: usize,
     /// Running clipped mean of |Δx| over accepted samples, and its count (capped).
     scale: f64,
@@ -99,7 +102,7 @@ impl NoiseCalibration {
             levels: [Level::default(); LEVELS],
             white_equiv: [0.0; LEVELS],
             known: false,
-            startup: [0.0; STARTUP_DIFFS],
+            startup: vec![0.0; STARTUP_DIFFS],
             startup_len: 0,
             scale: 0.0,
             scale_count: 0,
@@ -182,8 +185,9 @@ impl NoiseCalibration {
         if self.startup_len < STARTUP_MIN_DIFFS {
             return None;
         }
-        let mut d = self.startup;
-        let d = &mut d[..self.startup_len];
+        let mut buf = [0.0; STARTUP_DIFFS];
+        let d = &mut buf[..self.startup_len];
+        d.copy_from_slice(&self.startup[..self.startup_len]);
         d.sort_unstable_by(f64::total_cmp);
         let n = d.len();
         let median = if n % 2 == 1 { d[n / 2] } else { 0.5 * (d[n / 2 - 1] + d[n / 2]) };
@@ -217,6 +221,18 @@ impl NoiseCalibration {
     /// Whether any σ is known yet (start-up differences or committed data).
     pub fn is_known(&self) -> bool {
         self.known
+    }
+
+    /// Whether the stored values are usable (finite, non-negative, the start-up buffer intact):
+    /// what a snapshot's content must pass before it is restored.
+    pub fn is_valid(&self) -> bool {
+        self.startup.len() == STARTUP_DIFFS
+            && self.startup_len <= STARTUP_DIFFS
+            && self.scale.is_finite()
+            && self.scale >= 0.0
+            && self.min_block >= 1.0
+            && self.white_equiv.iter().chain(&self.startup).all(|v| v.is_finite() && *v >= 0.0)
+            && self.levels.iter().all(|l| l.partial.is_finite() && l.sum_half_sq.is_finite() && l.sum_half_sq >= 0.0)
     }
 
     /// Changes whenever the derived values do.

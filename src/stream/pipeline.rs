@@ -173,6 +173,8 @@ struct AxisState {
     comp: f64,
     /// Whether the last accepted sample's drift came from the estimator's model.
     from_model: bool,
+    /// Standard deviation of the last accepted sample's drift (+∞ while unknown).
+    std: f64,
 }
 
 impl AxisState {
@@ -180,6 +182,8 @@ impl AxisState {
         self.drift = e.drift;
         self.comp = raw - e.drift;
         self.from_model = e.from_model;
+        // A NaN variance (never expected) is reported as unknown, not as NaN.
+        self.std = if e.variance >= 0.0 { e.variance.sqrt() } else { f64::INFINITY };
     }
 }
 
@@ -229,7 +233,7 @@ impl Pipeline {
                         .map_err(|e| PipelineError::Config(e.to_string()))?,
                 ),
             };
-            Ok(AxisState { estimator, drift: 0.0, comp: 0.0, from_model: false })
+            Ok(AxisState { estimator, drift: 0.0, comp: 0.0, from_model: false, std: f64::INFINITY })
         };
         let axes = [axis()?, axis()?, axis()?];
         let mut detector: Box<dyn MotionDetector> = match config.detector {
@@ -365,8 +369,9 @@ impl Pipeline {
     /// Copies of each axis' buffers (denoiser window, static history) and running values (bias
     /// estimate, held drift), for a snapshot: see [`crate::stream::snapshot`].
     pub fn warm_state(&self) -> [AxisWarm; 3] {
-        self.axes.each_ref().map(|a| {
-            let mut w = AxisWarm { drift: a.drift, comp: a.comp, ..AxisWarm::default() };
+        std::array::from_fn(|k| {
+            let a = &self.axes[k];
+            let mut w = AxisWarm { drift: a.drift, comp: a.comp, noise: self.noise[k].clone(), ..AxisWarm::default() };
             a.estimator.warm(&mut w);
             w
         })
@@ -378,10 +383,11 @@ impl Pipeline {
         if let Some(axis) = warm.iter().position(|w| !w.is_finite()) {
             return Err(PipelineError::Config(format!("warm state of axis {axis} holds a non-finite value")));
         }
-        for (a, w) in self.axes.iter_mut().zip(warm) {
+        for ((a, w), noise) in self.axes.iter_mut().zip(warm).zip(&mut self.noise) {
             a.estimator.restore(w);
             a.drift = w.drift;
             a.comp = w.comp;
+            *noise = w.noise.clone();
         }
         Ok(())
     }
@@ -415,6 +421,7 @@ impl Pipeline {
         let mut status = verdict.status;
         let mut rate = [0.0; 3];
         let mut drift = [0.0; 3];
+        let mut drift_std = [f64::INFINITY; 3];
         let index = self.stats.samples;
         if verdict.rejected() {
             status |= STATUS_REJECTED;
@@ -423,6 +430,7 @@ impl Pipeline {
             for (k, a) in self.axes.iter().enumerate() {
                 let r = input.rate_dps[k];
                 drift[k] = a.drift;
+                drift_std[k] = a.std;
                 rate[k] = if self.check.in_range(r) { r - a.drift } else { a.comp };
                 if !a.from_model {
                     status |= STATUS_NO_MODEL;
@@ -446,6 +454,7 @@ impl Pipeline {
                     let e = a.estimator.predict_moving(index, self.queue.mean(k), &self.noise[k]);
                     a.set(e, input.rate_dps[k]);
                     drift[k] = a.drift;
+                    drift_std[k] = a.std;
                     rate[k] = a.comp;
                     if !e.from_model {
                         status |= STATUS_NO_MODEL;
@@ -457,6 +466,7 @@ impl Pipeline {
                     let e = estimates[k];
                     a.set(e, input.rate_dps[k]);
                     drift[k] = a.drift;
+                    drift_std[k] = a.std;
                     rate[k] = a.comp;
                     if !e.from_model {
                         status |= STATUS_NO_MODEL;
@@ -477,6 +487,7 @@ impl Pipeline {
             drift_dps: drift,
             model_version: self.model_version(),
             status,
+            drift_std_dps: drift_std,
         }
     }
 

@@ -48,6 +48,8 @@ pub struct OutputSample {
     pub model_version: u64,
     /// Status bits ([`STATUS_NO_MODEL`], [`STATUS_MOVING`], [`STATUS_REJECTED`], [`STATUS_GAP`]).
     pub status: u32,
+    /// Standard deviation of the drift estimate per axis, deg/s (+∞ while unknown).
+    pub drift_std_dps: [f64; 3],
 }
 
 impl InputSample {

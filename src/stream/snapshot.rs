@@ -27,6 +27,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use super::calibration::NoiseCalibration;
 use super::embed::Embedding;
 use super::model_slot::InstalledModel;
 use super::pipeline::{Pipeline, PipelineConfig};
@@ -114,6 +115,8 @@ pub struct AxisWarm {
     pub variance: f64,
     /// Kalman: sample index of the last committed sample.
     pub last_commit: u64,
+    /// The axis' self-calibration (online Allan variance, running σ).
+    pub noise: NoiseCalibration,
     /// Drift subtracted from the last accepted sample (held during motion).
     pub drift: f64,
     /// Last compensated value of an accepted sample (the substitute for a rejected one).
@@ -125,6 +128,7 @@ impl AxisWarm {
     pub fn is_finite(&self) -> bool {
         // The Kalman variance is +∞ before its first commit; NaN and negative values are not.
         self.variance >= 0.0
+            && self.noise.is_valid()
             && [self.bias, self.drift, self.comp]
             .iter()
             .chain(&self.denoiser_window)

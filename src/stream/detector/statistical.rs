@@ -16,8 +16,12 @@
 //! again only after a clean stretch).
 //!
 //! **Delayed commit and look-back.** When an alarm follows a static stretch, the motion began
-//! before it was found: about as far back as the shortest window that fired. That window plus
-//! `guard_s` of the newest pending samples are discarded; the older ones are committed. A static
+//! before it was found. Its start is estimated as the window length (or the whole stretch since
+//! the last alarm) with the largest normalised mean statistic — the GLR change-point estimate at
+//! the window lengths — extended over the next longer windows while the older segment is itself
+//! significant at the relaxed level √α (a slowly building motion, found by its strongest recent
+//! part); that span plus `guard_s` of the newest pending samples are discarded; the older ones
+//! are committed. A static
 //! sample is otherwise committed once `max window + guard_s` seconds have followed it, so no
 //! sample that a later look-back could discard has reached the estimator.
 //!
@@ -128,6 +132,8 @@ impl PrefixRing {
 pub struct StatisticalDetector {
     config: StatisticalConfig,
     z2: f64,
+    /// z² at the relaxed level √α of the look-back extension.
+    z2_relaxed: f64,
     /// Window lengths in samples (empty until the period is known).
     windows: Vec<usize>,
     variance_window: usize,
@@ -136,6 +142,8 @@ pub struct StatisticalDetector {
     settle: usize,
     guard: usize,
     delay: usize,
+    /// The longest mean window, samples.
+    longest: usize,
     rings: [PrefixRing; 3],
     /// Accepted samples since the last alarm (or since start).
     since_alarm: usize,
@@ -147,8 +155,10 @@ impl StatisticalDetector {
     /// A detector whose windows are sized once [`MotionDetector::set_period`] is called.
     pub fn new(config: StatisticalConfig) -> Self {
         let z = two_sided_z(config.false_alarm);
+        let zr = two_sided_z(config.false_alarm.sqrt());
         Self {
             z2: z * z,
+            z2_relaxed: zr * zr,
             config,
             windows: Vec::new(),
             variance_window: 0,
@@ -156,6 +166,7 @@ impl StatisticalDetector {
             settle: 0,
             guard: 0,
             delay: 0,
+            longest: 0,
             rings: Default::default(),
             since_alarm: 0,
             moving: false,
@@ -168,11 +179,16 @@ impl StatisticalDetector {
         &self.config
     }
 
-    /// The shortest window (samples) whose test fires on this sample, across axes; `None` when
-    /// none does. `n` is truncated at the last alarm.
+    /// Whether a test fires on this sample and, if so, how far back the motion began: among all
+    /// mean windows (and the whole stretch since the last alarm) of every axis, the length n with
+    /// the largest normalised statistic r̄²/(v(n) + P) — the generalised-likelihood-ratio estimate
+    /// of the change point, evaluated at the window lengths (a fast turn peaks at the shortest
+    /// window, a slow ramp at the span it has lasted); the variance window when only the
+    /// variance test fires. `n` is truncated at the last alarm.
     fn fired(&self, input: &DetectorInput<'_>) -> Option<usize> {
         let since = self.since_alarm;
-        let mut shortest: Option<usize> = None;
+        let mut best: Option<(f64, usize)> = None;
+        let mut variance_fired = false;
         for k in 0..3 {
             let noise = &input.noise[k];
             let p = input.drift[k].variance;
@@ -180,31 +196,62 @@ impl StatisticalDetector {
                 continue;
             }
             let ring = &self.rings[k];
-            for &w in &self.windows {
-                let n = w.min(since);
-                if n == 0 || shortest.is_some_and(|s| s <= n) {
+            for n in self.windows.iter().map(|&w| w.min(since)).chain(std::iter::once(since.min(self.longest))) {
+                if n == 0 {
                     continue;
                 }
                 let Some(v) = noise.mean_variance(n) else { continue };
                 let (s, _) = ring.window(n, since);
                 let mean = s / n as f64;
-                if mean * mean > self.z2 * (v + p) {
-                    shortest = Some(n);
+                let t = mean * mean / (v + p);
+                if best.is_none_or(|(b, _)| t > b) {
+                    best = Some((t, n));
                 }
             }
             let n = self.variance_window.min(since);
             if n >= 2
-                && shortest.is_none_or(|s| s > n)
                 && let Some(s2) = noise.sample_variance()
             {
                 let (s, ss) = ring.window(n, since);
                 let scatter = ss - s * s / n as f64;
-                if scatter / s2 > self.chi2[n] {
-                    shortest = Some(n);
-                }
+                variance_fired |= scatter / s2 > self.chi2[n];
             }
         }
-        shortest
+        let onset = match best {
+            Some((t, n)) if t > self.z2 => if variance_fired { n.max(self.variance_window.min(since)) } else { n },
+            _ if variance_fired => self.variance_window.min(since),
+            _ => return None,
+        };
+        Some(self.extend_back(input, onset))
+    }
+
+    /// Extends a look-back span of `n` samples over the older windows while the segment between
+    /// them is itself significant at the relaxed level √α: a motion that builds up slowly (a
+    /// ramp) is found by its recent, strongest part, but began well before it; a turn after a
+    /// static stretch stops at once (the older segment is static).
+    fn extend_back(&self, input: &DetectorInput<'_>, mut n: usize) -> usize {
+        let since = self.since_alarm;
+        for &w in &self.windows {
+            let w = w.min(since);
+            if w <= n {
+                continue;
+            }
+            let significant = (0..3).any(|k| {
+                let p = input.drift[k].variance;
+                let Some(v) = input.noise[k].mean_variance(w - n) else { return false };
+                if !p.is_finite() {
+                    return false;
+                }
+                let ring = &self.rings[k];
+                let mean = (ring.window(w, since).0 - ring.window(n, since).0) / (w - n) as f64;
+                mean * mean > self.z2_relaxed * (v + p)
+            });
+            if !significant {
+                break;
+            }
+            n = w;
+        }
+        n
     }
 }
 
@@ -243,8 +290,8 @@ impl MotionDetector for StatisticalDetector {
         if alarm {
             if !was_moving {
                 self.counters.onsets += 1;
-                // Look back: discard what the firing window spans (the publisher knows its own
-                // onsets: nothing to discard for a flag alone).
+                // Look back: discard the span the motion is estimated to have lasted (the
+                // publisher knows its own onsets: nothing to discard for a flag alone).
                 decision.discard = fired.map_or(0, |n| n + self.guard);
             }
             decision.flush = !was_moving;
@@ -279,7 +326,8 @@ impl MotionDetector for StatisticalDetector {
         let span = |s: f64| (s / period_s).round().min(MAX_WINDOW_SAMPLES as f64) as usize;
         self.settle = span(self.config.settle_s);
         self.guard = span(self.config.guard_s);
-        let longest = self.windows.iter().copied().max().unwrap_or(1).max(self.variance_window);
+        self.longest = self.windows.iter().copied().max().unwrap_or(1);
+        let longest = self.longest.max(self.variance_window);
         self.delay = longest + self.guard;
         self.rings = std::array::from_fn(|_| PrefixRing::with_capacity(longest + 1));
         self.since_alarm = 0;

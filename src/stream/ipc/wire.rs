@@ -54,7 +54,7 @@ impl RawSample {
 /// One compensated sample, on the `gyrocomp/compensated` service (80 bytes).
 /// Every [`RawSample`] yields exactly one, with the same `seq`.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
-#[type_name("gyrocomp::CompSample")]
+#[type_name("gyrocomp::CompSample.v2")]
 #[repr(C)]
 pub struct CompSample {
     /// `seq` of the raw sample this answers.
@@ -71,6 +71,9 @@ pub struct CompSample {
     pub status: u32,
     /// Padding to a multiple of 8 bytes; write 0.
     pub _pad: u32,
+    /// Standard deviation of `drift_dps` as an estimate of the true drift, per axis, deg/s
+    /// (+∞ while unknown): an INS can set its own gyro-bias noise from it.
+    pub drift_std_dps: [f64; 3],
 }
 
 impl CompSample {
@@ -84,6 +87,7 @@ impl CompSample {
             model_version: 0,
             status,
             _pad: 0,
+            drift_std_dps: [f64::INFINITY; 3],
         }
     }
 }
@@ -124,7 +128,7 @@ impl StatusEvent {
 /// Model events and counters, on the `gyrocomp/status` service (160 bytes).
 /// Counters are totals since the daemon started.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
-#[type_name("gyrocomp::StatusSample")]
+#[type_name("gyrocomp::StatusSample.v2")]
 #[repr(C)]
 pub struct StatusSample {
     /// Time of this report in nanoseconds (daemon's monotonic clock since start).
@@ -169,14 +173,22 @@ pub struct StatusSample {
     pub seq_skipped: u64,
     /// Publisher restarts seen (`seq` back to 0 or far back: a new stream).
     pub restarts: u64,
+    /// Static detector: static → moving transitions.
+    pub detector_onsets: u64,
+    /// Static detector: samples on which a test fired.
+    pub detector_alarms: u64,
+    /// Static samples committed to the drift estimators (delayed commit).
+    pub committed: u64,
+    /// Pending static samples discarded as the lead-in of a detected motion.
+    pub discarded: u64,
 }
 
 // Layout checks: the byte counts are part of the wire contract (design.md).
 const _: () = {
     assert!(size_of::<RawSample>() == 56);
     assert!(align_of::<RawSample>() == 8);
-    assert!(size_of::<CompSample>() == 80);
+    assert!(size_of::<CompSample>() == 104);
     assert!(align_of::<CompSample>() == 8);
-    assert!(size_of::<StatusSample>() == 160);
+    assert!(size_of::<StatusSample>() == 192);
     assert!(align_of::<StatusSample>() == 8);
 };
