@@ -525,8 +525,8 @@ impl Config {
         };
         statistical.validate().map_err(ConfigError)?;
         let d = &self.drift;
-        if !(d.innovation_gate > 0.0 && d.innovation_gate < 0.5) {
-            return err(format!("drift.innovation_gate: {} must lie in (0, 0.5)", d.innovation_gate));
+        if !(d.innovation_gate >= crate::model::normal::MIN_PROBABILITY && d.innovation_gate < 0.5) {
+            return err(format!("drift.innovation_gate: {} must lie in [1e-12, 0.5)", d.innovation_gate));
         }
         positive("drift.startup_s", d.startup_s)?;
         positive("motion.rate_dps", m.rate_dps)?;
@@ -716,6 +716,8 @@ mod tests {
             ("[drift]\ninnovation_gate = 0.0\n", "drift.innovation_gate"),
             ("[motion]\ndetector = \"magic\"\n", "detector"),
             ("[motion]\nfalse_alarm = 0.9\n", "motion.false_alarm"),
+            ("[motion]\nfalse_alarm = 1e-300\n", "motion.false_alarm"),
+            ("[drift]\ninnovation_gate = 1e-300\n", "drift.innovation_gate"),
             ("[motion]\nwindows_s = [2.0, 1.0]\n", "motion.windows_s"),
             ("[motion]\nsettle_s = -1.0\n", "motion.settle_s"),
             ("[pipeline]\nbias_samples = 0\n", "pipeline.bias_samples"),

@@ -1,6 +1,10 @@
 //! Quantiles of the normal and χ² distributions, for tests that are set by a false-alarm
 //! probability instead of a threshold in physical units.
 
+/// The smallest tail probability a configured test may use: 1 − 1e-12 is still exactly
+/// representable apart from 1, so the quantiles below stay finite (z ≈ 7.1).
+pub const MIN_PROBABILITY: f64 = 1e-12;
+
 /// Φ⁻¹(p), the standard normal quantile, for 0 < p < 1: P. J. Acklam's rational approximation
 /// (relative error < 1.15e-9), refined by one Halley step on erfc (W. J. Cody's rational erfc,
 /// as in Numerical Recipes 3rd ed. §6.2), which brings it to about machine precision.

@@ -117,7 +117,7 @@ impl NoiseCalibration {
     /// Feeds an accepted sample (static or not) to the per-sample σ: the median absolute first
     /// difference of the first samples (/√2: a difference of two white samples has variance
     /// 2σ²; the median ignores the large differences of fast motion), then a running mean of
-    /// |Δx| clipped at [`SCALE_CLIP`] times itself (σ = √π/2 · mean |Δx|). It runs on every
+    /// |Δx| clipped at `SCALE_CLIP` (4) times itself (σ = √π/2 · mean |Δx|). It runs on every
     /// accepted sample, moving or not — smooth motion barely changes sample-to-sample
     /// differences — so the per-sample σ never waits for committed data: a σ measured too small
     /// cannot keep every sample "moving" and so starve its own correction.

@@ -1,25 +1,31 @@
 //! The per-sample pipeline shared by the daemon, the replay tool and `gyrocomp compensate`
-//! (design.md "One pipeline, three drivers"): input check → gap check → motion gate → drift
-//! forecast → compensation → causal denoise → static history, for three axes, plus the retrain
-//! schedule.
+//! (design.md "One pipeline, three drivers"): input check → gap check → sample period (measured
+//! when `input.rate_hz = "auto"`) → per-axis drift estimate ([`DriftEstimator`], `[drift]`) →
+//! static/moving detector ([`MotionDetector`], `[motion]`) → compensation → pending queue →
+//! delayed commit to the self-calibration ([`NoiseCalibration`]) and the estimator, for three
+//! axes, plus the retrain schedule of estimators that take models. `docs/drift-estimation.md`
+//! describes the default (Kalman tracker, statistical detector).
 //!
-//! Per sample t and axis (paper method: db4 denoising, PSR Eq. 15–16, scaler Eq. 21, LSSVM):
-//! - **Accepted static sample**: drift `d[t]` is the model's forecast of the denoised series at t
-//!   made from static denoised samples up to `x̃[t−1−L]` (L = denoiser lag): one evaluation of
-//!   a model fitted directly L + 1 steps ahead (the retrainer's, [`Config::cpso_lssvm`](crate::config::Config::cpso_lssvm)), or
-//!   L + 1 iterations of a one-step model (see [`InstalledModel::predict_ahead`](super::InstalledModel::predict_ahead)); before a model exists,
-//!   the running static bias estimate (status bit 0). Output = raw − `d[t]`. Then `x[t]` enters the
-//!   denoiser, the denoised history and the bias estimate. The output at t uses `x[t]` only
-//!   through "raw −": the drift estimate uses samples before t.
-//! - **Moving sample** (motion gate or publisher flag): the drift is the drift of the last static
-//!   sample, held (status bit 1); the forecast horizon counts samples since that static sample.
-//!   Holding is chosen over iterating the model further: an iterated LS-SVM drifts to its fixed
-//!   point within tens of steps, while the drift itself changes slowly. The sample enters no
-//!   denoiser, history or training buffer, so the static series is concatenated across motion.
+//! Per sample t and axis:
+//! - **Accepted sample**: the estimator predicts the drift `d[t]` and its variance from committed
+//!   samples only (before t); the detector judges `r = x[t] − d[t]`. Output = raw − `d[t]` (moving
+//!   samples: the estimator's [`DriftEstimator::predict_moving`], the last static forecast for
+//!   `cpso-lssvm`). On a detected onset the detector's look-back discards the newest pending
+//!   samples and the older ones are committed.
+//! - **Static sample**: joins the pending queue; once the detector's commit delay has passed
+//!   (0 for the threshold gate: at once) it is committed — to the calibration, then to the
+//!   estimator (`cpso-lssvm`: the denoiser, the denoised history and its fallback running mean;
+//!   the paper's method: db4 denoising, PSR Eq. 15–16, scaler Eq. 21, an LS-SVM forecasting the
+//!   denoised series L + 1 steps ahead, [`Config::cpso_lssvm`](crate::config::Config::cpso_lssvm),
+//!   or iterated, [`InstalledModel::predict_ahead`](super::InstalledModel::predict_ahead)).
+//!   The output at t uses `x[t]` only through "raw −".
+//! - **Moving sample** (detector or publisher flag; status bit 1): neither pending nor
+//!   committed; the horizon counts samples since the last static one. The static series is
+//!   concatenated across motion.
 //! - **Rejected sample** (status bit 2; see [`InputCheck`] for the tests: duplicate `seq`, time
 //!   going backwards, NaN/Inf or |rate| > `input.range_dps` on any axis, robust spike test):
-//!   enters no buffer — not the denoiser, the model's history, the training window, the motion
-//!   gate or the spike estimates. The best safe output, per axis: a finite in-range rate minus the
+//!   enters no buffer — not the pending queue, the estimator, the calibration, the detector or
+//!   the spike estimates. The best safe output, per axis: a finite in-range rate minus the
 //!   current (held) drift, as for a moving sample; a bad rate is replaced by the last accepted
 //!   compensated value (0 before any). Never NaN.
 //! - **Gap** (skipped `seq`, t_ns step above `gap_factor` nominal periods, or backwards; status
@@ -272,7 +278,7 @@ impl Pipeline {
     }
 
     /// Applies new motion-gate and input thresholds from the next sample on (a reloaded
-    /// configuration); buffers, models and counters are kept (see [`MotionGate::reconfigure`]).
+    /// configuration); buffers, models and counters are kept (see [`MotionGate::reconfigure`](crate::stream::MotionGate::reconfigure)).
     pub fn update_thresholds(&mut self, motion: MotionConfig, input: InputConfig) {
         self.detector.reconfigure_thresholds(motion);
         let input = InputConfig { period_ns: self.check.config().period_ns, ..input };
@@ -450,28 +456,24 @@ impl Pipeline {
                 status |= STATUS_MOVING;
                 self.stats.moving += 1;
                 self.horizon += 1;
-                for (k, a) in self.axes.iter_mut().enumerate() {
-                    let e = a.estimator.predict_moving(index, self.queue.mean(k), &self.noise[k]);
-                    a.set(e, input.rate_dps[k]);
-                    drift[k] = a.drift;
-                    drift_std[k] = a.std;
-                    rate[k] = a.comp;
-                    if !e.from_model {
-                        status |= STATUS_NO_MODEL;
-                    }
-                }
             } else {
                 self.horizon = 0;
-                for (k, a) in self.axes.iter_mut().enumerate() {
-                    let e = estimates[k];
-                    a.set(e, input.rate_dps[k]);
-                    drift[k] = a.drift;
-                    drift_std[k] = a.std;
-                    rate[k] = a.comp;
-                    if !e.from_model {
-                        status |= STATUS_NO_MODEL;
-                    }
+            }
+            for (k, a) in self.axes.iter_mut().enumerate() {
+                let e = if decision.moving {
+                    a.estimator.predict_moving(index, self.queue.mean(k), &self.noise[k])
+                } else {
+                    estimates[k]
+                };
+                a.set(e, input.rate_dps[k]);
+                drift[k] = a.drift;
+                drift_std[k] = a.std;
+                rate[k] = a.comp;
+                if !e.from_model {
+                    status |= STATUS_NO_MODEL;
                 }
+            }
+            if !decision.moving {
                 self.queue.push(index, input.rate_dps);
                 while self.queue.len() > self.detector.commit_delay() {
                     let Some((i, r)) = self.queue.pop_oldest() else { break };

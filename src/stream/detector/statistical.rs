@@ -16,9 +16,9 @@
 //! again only after a clean stretch).
 //!
 //! **Delayed commit and look-back.** When an alarm follows a static stretch, the motion began
-//! before it was found. Its start is estimated as the window length (or the whole stretch since
-//! the last alarm) with the largest normalised mean statistic — the GLR change-point estimate at
-//! the window lengths — extended over the next longer windows while the older segment is itself
+//! before it was found. Its start is estimated as the span with the largest normalised mean
+//! statistic — the GLR change-point estimate, searched on a geometric grid of spans up to the
+//! longest window — extended over the next longer windows while the older segment is itself
 //! significant at the relaxed level √α (a slowly building motion, found by its strongest recent
 //! part); that span plus `guard_s` of the newest pending samples are discarded; the older ones
 //! are committed. A static
@@ -30,10 +30,12 @@
 //! taken as static (there is nothing to compare them with).
 
 use super::{Decision, DetectorCounters, DetectorInput, MotionDetector};
-use crate::model::normal::{chi2_upper, two_sided_z};
+use crate::model::normal::{MIN_PROBABILITY, chi2_upper, two_sided_z};
 
 /// Longest window, settle or guard span, samples (longer ones are cut to it: at 1 kHz 17 min).
 pub const MAX_WINDOW_SAMPLES: usize = 1 << 20;
+/// Ratio of the geometric grid the change point of an alarm is searched on.
+pub const CHANGE_POINT_GRID: f64 = 1.15;
 /// Commit delay (samples) while the windows are not sized yet.
 pub const UNSIZED_DELAY: usize = 63;
 
@@ -67,8 +69,8 @@ impl Default for StatisticalConfig {
 impl StatisticalConfig {
     /// Checks the values; the message names the key.
     pub fn validate(&self) -> Result<(), String> {
-        if !(self.false_alarm > 0.0 && self.false_alarm < 0.5) {
-            return Err(format!("motion.false_alarm: {} must lie in (0, 0.5)", self.false_alarm));
+        if !(self.false_alarm >= MIN_PROBABILITY && self.false_alarm < 0.5) {
+            return Err(format!("motion.false_alarm: {} must lie in [1e-12, 0.5)", self.false_alarm));
         }
         if self.windows_s.is_empty() || self.windows_s.len() > 16 {
             return Err("motion.windows_s: give 1 to 16 windows".into());
@@ -218,11 +220,44 @@ impl StatisticalDetector {
             }
         }
         let onset = match best {
-            Some((t, n)) if t > self.z2 => if variance_fired { n.max(self.variance_window.min(since)) } else { n },
+            Some((t, _)) if t > self.z2 => {
+                let n = self.change_point(input);
+                if variance_fired { n.max(self.variance_window.min(since)) } else { n }
+            }
             _ if variance_fired => self.variance_window.min(since),
             _ => return None,
         };
         Some(self.extend_back(input, onset))
+    }
+
+    /// The change-point estimate of an alarm: the span n (samples, on a geometric grid of ratio
+    /// [`CHANGE_POINT_GRID`] from one sample to the longest window, truncated at the last alarm)
+    /// that maximises the normalised mean statistic r̄²/(v(n) + P) over the axes — the GLR
+    /// estimate of where a mean shift began. Run only on an alarm.
+    fn change_point(&self, input: &DetectorInput<'_>) -> usize {
+        let since = self.since_alarm;
+        let top = since.min(self.longest).max(1);
+        let mut best = (f64::NEG_INFINITY, top);
+        let mut n = 1usize;
+        loop {
+            for k in 0..3 {
+                let p = input.drift[k].variance;
+                let Some(v) = input.noise[k].mean_variance(n) else { continue };
+                if !p.is_finite() {
+                    continue;
+                }
+                let mean = self.rings[k].window(n, since).0 / n as f64;
+                let t = mean * mean / (v + p);
+                if t > best.0 {
+                    best = (t, n);
+                }
+            }
+            if n >= top {
+                break;
+            }
+            n = ((n as f64 * CHANGE_POINT_GRID).ceil() as usize).min(top);
+        }
+        best.1
     }
 
     /// Extends a look-back span of `n` samples over the older windows while the segment between
@@ -310,7 +345,7 @@ impl MotionDetector for StatisticalDetector {
     }
 
     /// Before the period is known the samples wait too (a start-up hold of
-    /// [`UNSIZED_DELAY`] samples; the period is measured within the first ten).
+    /// `UNSIZED_DELAY` (63) samples; the period is measured within the first ten).
     fn commit_delay(&self) -> usize {
         if self.windows.is_empty() { UNSIZED_DELAY } else { self.delay }
     }
@@ -339,5 +374,90 @@ impl MotionDetector for StatisticalDetector {
 
     fn longest_window(&self) -> usize {
         self.windows.iter().copied().max().unwrap_or(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stream::calibration::NoiseCalibration;
+    use crate::stream::drift::DriftEstimate;
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    const SIGMA: f64 = 0.1;
+
+    fn normal(rng: &mut Xoshiro256PlusPlus) -> f64 {
+        StandardNormal.sample(rng)
+    }
+
+    /// A detector at 10 Hz and calibrations fed with 20,000 white samples of σ = 0.1.
+    fn setup() -> (StatisticalDetector, [NoiseCalibration; 3], Xoshiro256PlusPlus) {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(42);
+        let mut noise: [NoiseCalibration; 3] = Default::default();
+        for _ in 0..20_000 {
+            for n in &mut noise {
+                let x = SIGMA * normal(&mut rng);
+                n.observe(x);
+                n.commit(x);
+            }
+        }
+        let mut d = StatisticalDetector::new(StatisticalConfig::default());
+        d.set_period(0.1);
+        (d, noise, rng)
+    }
+
+    fn push(d: &mut StatisticalDetector, noise: &[NoiseCalibration; 3], rate: [f64; 3], flag: bool) -> Decision {
+        // A well-known bias of 0 (variance of a 10,000-sample mean).
+        let e = DriftEstimate { drift: 0.0, variance: SIGMA * SIGMA / 1e4, from_model: true };
+        d.push(&DetectorInput { rate: &rate, drift: &[e; 3], noise, publisher_moving: flag })
+    }
+
+    #[test]
+    fn white_noise_raises_few_alarms_and_the_windows_are_sized_in_seconds() {
+        let (mut d, noise, mut rng) = setup();
+        assert_eq!(d.windows, vec![5, 20, 100, 300, 600]);
+        assert_eq!((d.commit_delay(), d.longest_window()), (620, 600));
+        let mut alarms = 0;
+        for _ in 0..20_000 {
+            let r: [f64; 3] = std::array::from_fn(|_| SIGMA * normal(&mut rng));
+            alarms += push(&mut d, &noise, r, false).flush as u32;
+        }
+        // 18 tests a sample at α = 1e-5 (correlated): a handful over 20,000 samples at most.
+        assert!(alarms <= 5, "{alarms} onsets on white noise");
+    }
+
+    #[test]
+    fn a_slow_shift_is_found_and_its_span_discarded_and_a_flag_discards_nothing() {
+        let (mut d, noise, mut rng) = setup();
+        for _ in 0..700 {
+            let r: [f64; 3] = std::array::from_fn(|_| SIGMA * normal(&mut rng));
+            assert!(!push(&mut d, &noise, r, false).moving);
+        }
+        // 0.05 deg/s = σ/2 per sample: invisible to one sample, clear to a 10 s mean (5σ/√100·10).
+        let mut found = None;
+        for i in 0..300 {
+            let mut r: [f64; 3] = std::array::from_fn(|_| SIGMA * normal(&mut rng));
+            r[1] += 0.05;
+            let dec = push(&mut d, &noise, r, false);
+            if dec.flush {
+                found = Some((i, dec.discard));
+                break;
+            }
+        }
+        let (after, discard) = found.expect("the shift is found within 30 s");
+        assert!(after < 200, "found after {after} samples");
+        // The look-back reaches back to the shift's start (plus the 2 s guard).
+        assert!(discard > after && discard <= after.max(100) * 3 + 20, "discard {discard} for a shift {after} old");
+        // Hysteresis: moving until settle_s (5 s) pass without an alarm.
+        let mut quiet = 0;
+        while push(&mut d, &noise, [0.0; 3], false).moving {
+            quiet += 1;
+        }
+        assert_eq!(quiet, 49);
+        // The publisher's flag: moving at once, nothing discarded.
+        let dec = push(&mut d, &noise, [0.0; 3], true);
+        assert!(dec.moving && dec.flush && dec.discard == 0, "{dec:?}");
     }
 }

@@ -11,7 +11,7 @@
 //! | name | what it is |
 //! |---|---|
 //! | `kalman` | scalar Kalman filter, bias as a random walk, Q and R from the unit's own Allan variance ([`KalmanBias`]) |
-//! | `cpso-lssvm` | the paper's method: db4 causal denoising, PSR, CPSO-tuned LS-SVM forecast retrained in the background ([`ModelForecast`]) |
+//! | `cpso-lssvm` | the paper's method: db4 causal denoising, PSR, CPSO-tuned LS-SVM forecast retrained in the background (`ModelForecast`) |
 //! | `bias-hold` | the mean of the start-up static span, then held for ever ([`StartupHold`]) |
 
 mod kalman;
@@ -110,7 +110,7 @@ pub trait DriftEstimator: fmt::Debug + Send {
 pub enum EstimatorKind {
     /// [`KalmanBias`] (the default).
     Kalman,
-    /// [`ModelForecast`] with the CPSO-LSSVM retrainer (the paper's method).
+    /// `ModelForecast` with the CPSO-LSSVM retrainer (the paper's method).
     CpsoLssvm,
     /// [`StartupHold`].
     BiasHold,
