@@ -227,13 +227,10 @@ impl Pipeline {
         config.statistical.validate().map_err(PipelineError::Config)?;
         let history = config.retrain.window.max(config.embedding.history());
         let period = PeriodEstimate::new(config.input.period_ns);
-        let startup_samples = period
-            .period_s()
-            .map_or(u64::MAX, |t| (config.drift.startup_s / t).round().max(1.0) as u64);
         let axis = || -> Result<AxisState, PipelineError> {
             let estimator: Box<dyn DriftEstimator> = match config.drift.kind {
                 EstimatorKind::Kalman => Box::new(KalmanBias::new(config.drift.innovation_gate)),
-                EstimatorKind::BiasHold => Box::new(StartupHold::new(startup_samples)),
+                EstimatorKind::BiasHold => Box::new(StartupHold::new(config.drift.startup_s)),
                 EstimatorKind::CpsoLssvm => Box::new(
                     ModelForecast::new(config.causal.clone(), history, config.bias_samples)
                         .map_err(|e| PipelineError::Config(e.to_string()))?,
@@ -242,19 +239,13 @@ impl Pipeline {
             Ok(AxisState { estimator, drift: 0.0, comp: 0.0, from_model: false, std: f64::INFINITY })
         };
         let axes = [axis()?, axis()?, axis()?];
-        let mut detector: Box<dyn MotionDetector> = match config.detector {
+        let detector: Box<dyn MotionDetector> = match config.detector {
             DetectorKind::Statistical => Box::new(StatisticalDetector::new(config.statistical.clone())),
             DetectorKind::Threshold => Box::new(ThresholdDetector::new(config.motion)),
         };
-        let mut noise: [NoiseCalibration; 3] = Default::default();
-        if let Some(t) = period.period_s() {
-            detector.set_period(t);
-            for n in &mut noise {
-                n.set_min_block(MIN_TRACKING_FRACTION * detector.longest_window() as f64);
-            }
-        }
-        Ok(Self {
-            noise,
+        let known = period.period_s();
+        let mut pipeline = Self {
+            noise: Default::default(),
             queue: PendingQueue::new(detector.commit_delay()),
             detector,
             period,
@@ -267,7 +258,24 @@ impl Pipeline {
             trainer: None,
             pending: None,
             last_request: Instant::now(),
-        })
+        };
+        if let Some(t) = known {
+            pipeline.apply_period(t);
+        }
+        Ok(pipeline)
+    }
+
+    /// Sizes everything that works in seconds for the sample period: the detector's windows, the
+    /// pending queue, the calibrations' shortest τ\*, the estimators' spans.
+    fn apply_period(&mut self, period_s: f64) {
+        self.detector.set_period(period_s);
+        self.queue.set_capacity(self.detector.commit_delay());
+        for n in &mut self.noise {
+            n.set_min_block(MIN_TRACKING_FRACTION * self.detector.longest_window() as f64);
+        }
+        for a in &mut self.axes {
+            a.estimator.set_period(period_s);
+        }
     }
 
     /// Attaches a background trainer; from now on retraining follows `config.retrain`.
@@ -499,17 +507,7 @@ impl Pipeline {
         if let Some(period_ns) = self.period.observe(t_ns) {
             let input = InputConfig { period_ns, ..*self.check.config() };
             self.check.reconfigure(input);
-            self.detector.set_period(period_ns as f64 * 1e-9);
-            self.queue.set_capacity(self.detector.commit_delay());
-            for n in &mut self.noise {
-                n.set_min_block(MIN_TRACKING_FRACTION * self.detector.longest_window() as f64);
-            }
-            if self.config.drift.kind == EstimatorKind::BiasHold {
-                let span = (self.config.drift.startup_s / (period_ns as f64 * 1e-9)).round().max(1.0) as u64;
-                for a in &mut self.axes {
-                    a.estimator = Box::new(StartupHold::new(span));
-                }
-            }
+            self.apply_period(period_ns as f64 * 1e-9);
             tracing::info!(period_ns, "sample period measured from the timestamps");
         }
     }

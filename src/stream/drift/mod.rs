@@ -98,6 +98,9 @@ pub trait DriftEstimator: fmt::Debug + Send {
     /// Restores what [`DriftEstimator::warm`] copied.
     fn restore(&mut self, warm: &AxisWarm);
 
+    /// The sample period (s) became known: estimators that work in seconds size themselves.
+    fn set_period(&mut self, _period_s: f64) {}
+
     /// Innovation counters of a Kalman-type estimator (`None` for the others).
     fn kalman_counters(&self) -> Option<KalmanCounters> {
         None

@@ -9,15 +9,17 @@ use crate::stream::snapshot::AxisWarm;
 /// Start-up mean, then held (module documentation).
 #[derive(Debug, Clone)]
 pub struct StartupHold {
+    startup_s: f64,
+    /// `startup_s` in samples once the period is known (unbounded before).
     span_samples: u64,
     sum: f64,
     count: u64,
 }
 
 impl StartupHold {
-    /// Averages the first `span_samples` committed samples (at least 1).
-    pub fn new(span_samples: u64) -> Self {
-        Self { span_samples: span_samples.max(1), sum: 0.0, count: 0 }
+    /// Averages the committed samples of the first `startup_s` seconds (at least one sample).
+    pub fn new(startup_s: f64) -> Self {
+        Self { startup_s, span_samples: u64::MAX, sum: 0.0, count: 0 }
     }
 }
 
@@ -48,6 +50,10 @@ impl DriftEstimator for StartupHold {
         }
     }
 
+    fn set_period(&mut self, period_s: f64) {
+        self.span_samples = (self.startup_s / period_s).round().max(1.0) as u64;
+    }
+
     fn warm(&self, warm: &mut AxisWarm) {
         warm.bias = if self.count > 0 { self.sum / self.count as f64 } else { 0.0 };
         warm.bias_count = self.count;
@@ -56,5 +62,29 @@ impl DriftEstimator for StartupHold {
     fn restore(&mut self, warm: &AxisWarm) {
         self.count = warm.bias_count.min(self.span_samples);
         self.sum = warm.bias * self.count as f64;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn averages_the_start_up_span_then_holds() {
+        let noise = NoiseCalibration::new();
+        let mut h = StartupHold::new(1.0);
+        h.set_period(0.1); // 10 samples
+        let nothing = h.predict(0, PendingMean::default(), &noise);
+        assert_eq!((nothing.drift, nothing.from_model), (0.0, false));
+        // Pending samples count while the span is not complete.
+        let early = h.predict(0, PendingMean { count: 4, sum: 2.0 }, &noise);
+        assert_eq!((early.drift, early.from_model), (0.5, false));
+        for i in 0..10 {
+            h.commit(i, 1.0 + i as f64, &noise);
+        }
+        // Mean of 1 … 10, held: later commits and pending samples change nothing.
+        h.commit(10, 100.0, &noise);
+        let held = h.predict(20, PendingMean { count: 5, sum: 500.0 }, &noise);
+        assert_eq!((held.drift, held.from_model), (5.5, true));
     }
 }
