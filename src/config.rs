@@ -17,9 +17,9 @@ use crate::stream::{
 };
 use crate::wavelet::{DenoiseConfig, Wavelet};
 
-/// Default causal window (samples): see the trade-off table in the README.
+/// Default causal window (samples): see the trade-off table in docs/evaluation.md ("Causal denoising").
 pub const DEFAULT_DENOISE_WINDOW: usize = 256;
-/// Default causal lag (samples): see the trade-off table in the README.
+/// Default causal lag (samples): see the trade-off table in docs/evaluation.md ("Causal denoising").
 pub const DEFAULT_DENOISE_LAG: usize = 5;
 /// Largest `denoise.window`, `motion.window` and `ipc.subscriber_buffer` (samples).
 pub const MAX_WINDOW: usize = 1 << 20;

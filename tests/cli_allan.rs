@@ -129,7 +129,8 @@ fn constant_series_has_zero_adev_and_null_fit() {
     assert!(json["fit"].is_null());
 }
 
-/// Real ADIS16405 recording (shared data, not in the repository): README values of gx, run 1.
+/// Real ADIS16405 recording (shared data, not in the repository): the values of gx, run 1, in
+/// configs/sim/README.md ("Presets beside the real ADIS16405 run 1").
 #[test]
 fn real_adis16405_matches_published_allan_deviation() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/real/adis16405_run1_10hz.csv");
@@ -144,7 +145,7 @@ fn real_adis16405_matches_published_allan_deviation() {
     assert!(close(tau[0], 0.1, 1e-9), "first tau {}", tau[0]);
     assert!(close(adev[0], 0.125, 0.10), "adev(0.1 s) = {}", adev[0]);
     // The bias-instability floor: the first local minimum of the curve. (The last, few-sample
-    // octave points at ≥ 800 s dip lower again; they are not the floor the README describes.)
+    // octave points at ≥ 800 s dip lower again; they are not the floor configs/sim/README.md shows.)
     let i = (1..adev.len() - 1).find(|&i| adev[i] <= adev[i - 1] && adev[i] < adev[i + 1]).expect("a local minimum");
     assert!((50.0..=200.0).contains(&tau[i]), "floor at tau {} s", tau[i]);
     assert!(close(adev[i], 0.0072, 0.10), "floor adev {} at {} s", adev[i], tau[i]);

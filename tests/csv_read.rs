@@ -1,4 +1,4 @@
-//! The streaming CSV reader: conventions of design.md and clear errors naming file, line, field.
+//! The streaming CSV reader: conventions of docs/design.md and clear errors naming file, line, field.
 
 use std::io::Write;
 use std::path::Path;

@@ -62,8 +62,8 @@ fn the_default_estimator_beats_bias_hold_and_the_ungated_predictor_on_unseen_see
             "{at}: median per turn gyrocomp {:.3}, bias-hold {:.3}, persistence {:.3}, floor {floor:.3}; run {:.2} / {:.2}",
             ours.median, hold.median, ungated.median, ours.run, hold.run
         );
-        // Per turn the tracker beats bias-hold at 10 Hz; at 100 Hz it does not (README "Where it
-        // loses": measured 1.2× on this seed and on the main job's), held to a regression bound.
+        // Per turn the tracker beats bias-hold at 10 Hz; at 100 Hz it does not (docs/drift-estimation.md
+        // "Where it loses": measured 1.2× on this seed and on the main job's), held to a regression bound.
         assert!(ours.median < per_turn_bound * hold.median, "{at}: {} vs bias-hold {}", ours.median, hold.median);
         assert!(ours.median < 0.2 * ungated.median, "{at}: {} vs persistence {}", ours.median, ungated.median);
         if seed == 7 {

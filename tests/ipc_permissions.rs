@@ -213,7 +213,7 @@ fn another_uid_can_neither_publish_nor_subscribe() {
     for (name, uid, mode) in &objects {
         eprintln!("/dev/shm/{name}: uid {uid}, mode {mode:o}");
         if name.ends_with("global_mgmt") {
-            continue; // iceoryx2's node counter, world-writable by design (see the README)
+            continue; // iceoryx2's node counter, world-writable by design (docs/usage.md)
         }
         assert_eq!(mode & 0o077, 0, "{name} is accessible to other users: mode {mode:o}");
     }

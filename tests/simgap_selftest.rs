@@ -1,5 +1,5 @@
 //! A small version of `gyrocomp simgap --selftest` (the full one — ten seeded 10,000 s cases of
-//! each kind with ensembles of 32, 96 of 100 right — is in README "Sim-to-real diagnosis"): one
+//! each kind with ensembles of 32, 96 of 100 right — is in docs/evaluation.md "Sim-to-real diagnosis"): one
 //! seeded case of each effect and of each control on 3000 s recordings with ensembles of 24, so
 //! that it runs in the dev profile in under a minute (47 s here). Short recordings hide some
 //! effects (here the spikes case stays unexplained at 3000 s), so this asserts what must not

@@ -31,7 +31,7 @@ import iceoryx2 as iox2
 
 
 class RawSample(ctypes.Structure):
-    """gyrocomp::RawSample (56 bytes), see design.md "Wire types"."""
+    """gyrocomp::RawSample (56 bytes), see docs/design.md "Wire types"."""
 
     _fields_ = [
         ("seq", ctypes.c_uint64),

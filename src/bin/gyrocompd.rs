@@ -1,5 +1,5 @@
 //! `gyrocompd`: the gyro drift compensation daemon (iceoryx2 in and out, background retraining).
-//! See `gyrocompd --help` and the README section "gyrocompd"; the work is in `gyrocomp::daemon`.
+//! See `gyrocompd --help` and docs/usage.md, section "gyrocompd"; the work is in `gyrocomp::daemon`.
 
 use std::path::PathBuf;
 use std::process::ExitCode;

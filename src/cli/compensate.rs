@@ -1,4 +1,4 @@
-//! `gyrocomp compensate`: the offline driver (design.md "One pipeline, three drivers", driver 3).
+//! `gyrocomp compensate`: the offline driver (docs/design.md "One pipeline, three drivers", driver 3).
 //! The recording goes sample by sample through the daemon's pipeline and retrainer
 //! ([`crate::stream::compensate_recording`], retraining deterministically) and every sample gets
 //! one row in the output CSV ([`crate::io::compensated_csv`]). A one-line summary goes to stderr,

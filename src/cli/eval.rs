@@ -1,4 +1,4 @@
-//! `gyrocomp eval`: the paper's evaluation protocol (design.md) for the paper's models beside the
+//! `gyrocomp eval`: the paper's evaluation protocol (docs/design.md) for the paper's models beside the
 //! honest baselines, as a table shaped like the paper's Tables 1–2 or as JSON; with
 //! `--protocol motion`, the motion-injected protocol ([`super::eval_motion`]).
 

@@ -1,5 +1,5 @@
 //! `gyrocomp motion`: add a known motion profile to the rate columns of a static recording, for the
-//! motion-injected evaluation (design.md). Every column of the input is kept, in order; the chosen
+//! motion-injected evaluation (docs/design.md). Every column of the input is kept, in order; the chosen
 //! rate columns get the profile added; `truth_dps` (the profile) and `moving` (1 inside a motion,
 //! else 0) are appended. The same profile goes into each chosen column, so each is a separate test
 //! case with the same truth.

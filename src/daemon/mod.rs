@@ -1,4 +1,4 @@
-//! `gyrocompd`, the sidecar daemon (design.md "One pipeline, three drivers", driver 1): raw gyro
+//! `gyrocompd`, the sidecar daemon (docs/design.md "One pipeline, three drivers", driver 1): raw gyro
 //! samples in over iceoryx2, one compensated sample out per raw sample (same `seq`), model events
 //! and counters on the status service, a background retrainer, and signal handling.
 //!

@@ -1,4 +1,4 @@
-//! Evaluation protocols of design.md ("Evaluation protocols"): the paper's protocol, with every
+//! Evaluation protocols of docs/design.md ("Evaluation protocols"): the paper's protocol, with every
 //! model scored beside the honest baselines on the same split, and the motion-injected protocol
 //! (compensated rate and integrated angle against a known injected motion).
 

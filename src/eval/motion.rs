@@ -1,4 +1,4 @@
-//! The motion-injected protocol (design.md "Evaluation protocols: motion-injected"): a known
+//! The motion-injected protocol (docs/design.md "Evaluation protocols: motion-injected"): a known
 //! motion profile is added to a static recording (`gyrocomp motion`), so the truth is the profile;
 //! a compensator should remove the drift and leave the rotation. Pure numerics: it scores
 //! compensated series and computes the two baselines that need no pipeline.

@@ -1,4 +1,4 @@
-//! The paper's evaluation protocol (§4.3, design.md "Evaluation protocols: paper"):
+//! The paper's evaluation protocol (§4.3, docs/design.md "Evaluation protocols: paper"):
 //! the first `samples` samples are wavelet-denoised (batch), embedded (τ = 10, m = 3), scaled to
 //! [−1, 1] (Eq. 21) on the training part, and split 80/20 by rows; each model predicts every test
 //! target one step ahead from the actual samples before it. Errors are given in normalised units

@@ -17,7 +17,7 @@ use std::io::{BufRead, BufReader, Read};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-/// Accepted names of the time column, in order of preference (design.md "CSV conventions").
+/// Accepted names of the time column, in order of preference (docs/design.md "CSV conventions").
 pub const TIME_COLUMN_NAMES: [&str; 3] = ["t_s", "t", "time"];
 /// Name of the optional temperature column.
 pub const TEMP_COLUMN: &str = "temp_c";
@@ -160,7 +160,7 @@ pub struct Row<'a> {
     /// The selected value columns, in the order they were asked for.
     pub values: &'a [f64],
     /// Temperature in °C when the file has a `temp_c` column and the field is not empty; NaN is
-    /// kept as NaN (design.md: NaN = none).
+    /// kept as NaN (docs/design.md: NaN = none).
     pub temp_c: Option<f64>,
 }
 

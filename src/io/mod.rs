@@ -1,5 +1,5 @@
 //! File I/O at the edge of the library: streaming CSV reading and CSV writing, following the CSV
-//! conventions of design.md (header line, time column `t_s`/`t`/`time` in seconds, rate columns in
+//! conventions of docs/design.md (header line, time column `t_s`/`t`/`time` in seconds, rate columns in
 //! deg/s, optional `temp_c`). Numerics never see a file: they receive slices.
 
 pub mod compensated_csv;

@@ -1,4 +1,4 @@
-//! A recording as the offline drivers see it (design.md "One pipeline, three drivers"): the CSV
+//! A recording as the offline drivers see it (docs/design.md "One pipeline, three drivers"): the CSV
 //! of `gyrocomp compensate`, of `replay` and of the motion-injected evaluation, loaded once with
 //! the streaming reader ([`SampleReader`], line-exact errors) and handed to the pipeline sample by
 //! sample as [`InputSample`]s.

@@ -2,7 +2,7 @@
 //! windows", Physica D 127 (1999) 48–60) for choosing the phase-space reconstruction delay τ,
 //! the delay window τw and the embedding dimension m: paper §3 Step 2, Eq. 18–20, and §4.2.
 //!
-//! Definitions used here (design.md "Stage definitions", C-C method):
+//! Definitions used here (docs/design.md "Stage definitions", C-C method):
 //! - Correlation integral with the sup-norm over pairs i < j (no self-pairs):
 //!   `C(m, N, r, t) = 2/(M(M−1)) · #{i < j : ‖X_i − X_j‖∞ ≤ r}`, with
 //!   `X_i = (x_i, x_{i+t}, …, x_{i+(m−1)t})` and `M = N − (m−1)t`; Θ(a) = 1 for a ≥ 0, so a

@@ -1,4 +1,4 @@
-//! Known motion profiles for the motion-injected evaluation (design.md): a seeded sequence of
+//! Known motion profiles for the motion-injected evaluation (docs/design.md): a seeded sequence of
 //! rotations about the sensed axis, separated by static stretches, that is added to the rate
 //! columns of a static recording. The profile is the truth; a compensator should remove the drift
 //! and leave the profile.

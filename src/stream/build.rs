@@ -1,5 +1,5 @@
 //! Building the pipeline from a configuration: the one construction every driver uses
-//! (design.md "One pipeline, three drivers"): `gyrocompd`, `gyrocomp compensate` and, through
+//! (docs/design.md "One pipeline, three drivers"): `gyrocompd`, `gyrocomp compensate` and, through
 //! the daemon, `replay`.
 
 use super::pipeline::{Pipeline, PipelineError};

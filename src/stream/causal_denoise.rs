@@ -1,4 +1,4 @@
-//! Causal wavelet denoising (design.md "Denoise (causal)").
+//! Causal wavelet denoising (docs/design.md "Denoise (causal)").
 //!
 //! For each new sample the last `window` samples are denoised as a batch (the paper's db4,
 //! three-level, universal-soft-threshold step, σ estimated on the window) and the value `lag`

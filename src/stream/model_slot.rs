@@ -16,7 +16,7 @@ use crate::model::scaler::MinMaxScaler;
 pub type SharedModel = Arc<dyn Predict + Send + Sync>;
 
 /// A model as installed: the predictor (normalised units), the scaler of its training window
-/// (paper Eq. 21, "stored with the model", design.md) and its version.
+/// (paper Eq. 21, "stored with the model", docs/design.md) and its version.
 #[derive(Clone)]
 pub struct InstalledModel {
     /// Predictor of the normalised denoised series, one step ahead or directly

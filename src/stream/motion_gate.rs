@@ -1,4 +1,4 @@
-//! Motion gate (design.md "Stage definitions", motion gate): decides per sample whether the
+//! Motion gate (docs/design.md "Stage definitions", motion gate): decides per sample whether the
 //! platform is moving, so that moving samples are neither model input nor training data.
 //!
 //! A sample is moving when the publisher sets [`FLAG_MOVING`](super::sample::FLAG_MOVING), when

@@ -1,4 +1,4 @@
-//! The offline driver (design.md "One pipeline, three drivers", driver 3): a recording in, one
+//! The offline driver (docs/design.md "One pipeline, three drivers", driver 3): a recording in, one
 //! [`OutputSample`] per sample out, through the same [`Pipeline`] and retrainer as the daemon
 //! ([`build_pipeline`]), with no IPC. `gyrocomp compensate` and the motion-injected evaluation
 //! use it; `replay` sends the same [`InputSample`]s through `gyrocompd`.

@@ -1,5 +1,5 @@
 //! The per-sample pipeline shared by the daemon, the replay tool and `gyrocomp compensate`
-//! (design.md "One pipeline, three drivers"): input check → gap check → sample period (measured
+//! (docs/design.md "One pipeline, three drivers"): input check → gap check → sample period (measured
 //! when `input.rate_hz = "auto"`) → per-axis drift estimate ([`DriftEstimator`], `[drift]`) →
 //! static/moving detector ([`MotionDetector`], `[motion]`) → compensation → pending queue →
 //! delayed commit to the self-calibration ([`NoiseCalibration`]) and the estimator, for three

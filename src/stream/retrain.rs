@@ -1,5 +1,5 @@
-//! The background retrainer (design.md "One pipeline, three drivers": "a background thread
-//! retrains the model on a sliding window").
+//! The background retrainer (docs/design.md "Retrainer": a background thread retrains the model
+//! on a sliding window).
 //!
 //! [`Trainer::spawn`] starts one thread that owns a [`Fit`] configuration (the paper's
 //! [`CpsoLssvm`](crate::model::lssvm::CpsoLssvm) in production, anything cheap in tests). The

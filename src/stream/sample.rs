@@ -1,6 +1,6 @@
 //! Plain per-sample input and output records of the [`Pipeline`](super::Pipeline).
 //!
-//! They carry the same fields as the iceoryx2 wire types of design.md ("Wire types":
+//! They carry the same fields as the iceoryx2 wire types of docs/design.md ("Wire types":
 //! `gyrocomp::RawSample`, `gyrocomp::CompSample`) without the `#[repr(C)]` layout and padding;
 //! the IPC layer converts field by field.
 

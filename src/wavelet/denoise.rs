@@ -1,4 +1,4 @@
-//! Wavelet denoising as in the paper (§3 Step 1, §4.2) and design.md "Denoise (batch)":
+//! Wavelet denoising as in the paper (§3 Step 1, §4.2) and docs/design.md "Denoise (batch)":
 //! multilevel DWT (db4, 3 levels, `symmetric` boundary), universal threshold
 //! `T = σ·√(2 ln n)` with `σ = median(|cD1|) / 0.6745`, soft thresholding of every detail level,
 //! approximation untouched, inverse DWT truncated to the input length.

@@ -3,7 +3,7 @@
 //! (`pywt.threshold(d, T, 'soft')`).
 
 /// Divisor turning the median absolute finest-detail coefficient into a Gaussian σ estimate
-/// (≈ Φ⁻¹(3/4)), as in design.md.
+/// (≈ Φ⁻¹(3/4)), as in docs/design.md.
 pub const MAD_TO_SIGMA: f64 = 0.6745;
 
 /// Median of `|values|`, computed in `scratch` (resized as needed; no other allocation).

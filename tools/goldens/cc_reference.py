@@ -5,7 +5,7 @@ Run from the repository root:  python3 tools/goldens/cc_reference.py
 Needs only numpy. The output is deterministic (fixed seeds), so re-running it gives the same file.
 
 Written straight from the definitions (Kim, Eykholt & Salas, Physica D 127 (1999) 48-60; the seed
-paper's Eq. 18-20; design.md "Stage definitions"), brute force and readable rather than fast. It
+paper's Eq. 18-20; docs/design.md "Stage definitions"), brute force and readable rather than fast. It
 shares no code or algorithm with src/model/cc.rs: it builds every embedded vector explicitly and
 takes the full matrix of pairwise distances, where the Rust grows distances incrementally.
 

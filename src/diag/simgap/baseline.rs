@@ -1,7 +1,7 @@
 //! The baseline simulation: the IEEE Std 952 noise terms fitted to the training part.
 //!
 //! The simulated terms are quantisation Q, angle random walk N, bias instability B and rate random
-//! walk K (design.md "Sim-to-real diagnosis"). The fit ([`crate::diag::noise_fit::fit_terms`],
+//! walk K (docs/design.md "Sim-to-real diagnosis"). The fit ([`crate::diag::noise_fit::fit_terms`],
 //! weights n/m as `gyrocomp allan`) is made on the robust Allan deviation at octave τ
 //! ([`super::robust_allan`]) and also has the rate ramp R, which is *not* simulated: the ramp is a
 //! candidate effect, and without the R column a trend or a warm-up in the training part would be

@@ -1,4 +1,4 @@
-//! Sim-to-real gap diagnosis (design.md "Sim-to-real diagnosis"; `gyrocomp simgap`): where a
+//! Sim-to-real gap diagnosis (docs/design.md "Sim-to-real diagnosis"; `gyrocomp simgap`): where a
 //! simulation of a gyro differs from a real recording, which unmodelled effect explains the
 //! difference, and how far the gap shrinks once that effect is simulated, checked on a held-out
 //! part of the recording.

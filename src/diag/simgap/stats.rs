@@ -1,4 +1,4 @@
-//! The statistics on which a simulation is compared with a recording (design.md "Sim-to-real
+//! The statistics on which a simulation is compared with a recording (docs/design.md "Sim-to-real
 //! diagnosis"). One [`StatLayout`] per part (training, hold-out) fixes which statistics there are,
 //! so the real part and every simulated member give vectors of the same shape:
 //!

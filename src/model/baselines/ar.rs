@@ -1,4 +1,4 @@
-//! AR(p) baseline on consecutive lags with intercept (design.md "Stage definitions",
+//! AR(p) baseline on consecutive lags with intercept (docs/design.md "Stage definitions",
 //! *Compensation*): `x̂[t] = c + Σ_{i=1..p} a_i·x[t−i]`, fitted by least squares (Householder
 //! QR, see `lstsq`).
 //!

@@ -1,5 +1,5 @@
 //! Start-up bias-hold baseline: the mean of the first K training samples, held forever — what an
-//! INS does when it averages the gyro while standing still at start-up (design.md "Stage
+//! INS does when it averages the gyro while standing still at start-up (docs/design.md "Stage
 //! definitions", *Compensation*; "Evaluation protocols", *honest*).
 
 use serde::{Deserialize, Serialize};

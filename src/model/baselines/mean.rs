@@ -1,4 +1,4 @@
-//! Mean baseline: the training mean, held forever (design.md "Stage definitions",
+//! Mean baseline: the training mean, held forever (docs/design.md "Stage definitions",
 //! *Compensation*). On a zero-mean noise series it is the best constant predictor in RMSE.
 
 use serde::{Deserialize, Serialize};

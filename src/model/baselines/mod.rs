@@ -1,4 +1,4 @@
-//! Honest baselines (design.md "Evaluation protocols", *honest*; "Stage definitions",
+//! Honest baselines (docs/design.md "Evaluation protocols", *honest*; "Stage definitions",
 //! *Compensation*): the simple predictors every table lists next to the paper's models, on the
 //! same split and through the same [`Fit`](super::Fit)/[`Predict`](super::Predict) interface.
 //!

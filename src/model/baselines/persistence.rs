@@ -1,4 +1,4 @@
-//! Persistence (random-walk) baseline: `x̂[t+1] = x[t]` (design.md "Stage definitions",
+//! Persistence (random-walk) baseline: `x̂[t+1] = x[t]` (docs/design.md "Stage definitions",
 //! *Compensation*). It has no parameters; a model that cannot beat it has learnt nothing.
 
 use serde::{Deserialize, Serialize};

@@ -1,4 +1,4 @@
-//! Wire types exchanged over iceoryx2 (design.md, "Wire types").
+//! Wire types exchanged over iceoryx2 (docs/design.md, "Wire types").
 //!
 //! Every type is `#[repr(C)]`, holds only plain numbers and carries an explicit iceoryx2 type name
 //! (`#[type_name(...)]` on `#[derive(ZeroCopySend)]`, which implements
@@ -51,7 +51,7 @@ impl RawSample {
     }
 }
 
-/// One compensated sample, on the `gyrocomp/compensated` service (80 bytes).
+/// One compensated sample, on the `gyrocomp/compensated` service (104 bytes).
 /// Every [`RawSample`] yields exactly one, with the same `seq`.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[type_name("gyrocomp::CompSample.v2")]
@@ -125,7 +125,7 @@ impl StatusEvent {
     }
 }
 
-/// Model events and counters, on the `gyrocomp/status` service (160 bytes).
+/// Model events and counters, on the `gyrocomp/status` service (192 bytes).
 /// Counters are totals since the daemon started.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[type_name("gyrocomp::StatusSample.v2")]
@@ -183,7 +183,7 @@ pub struct StatusSample {
     pub discarded: u64,
 }
 
-// Layout checks: the byte counts are part of the wire contract (design.md).
+// Layout checks: the byte counts are part of the wire contract (docs/design.md).
 const _: () = {
     assert!(size_of::<RawSample>() == 56);
     assert!(align_of::<RawSample>() == 8);

@@ -1,5 +1,5 @@
 //! `replay`: feeds a recorded gyro CSV through `gyrocompd` over iceoryx2 and collects one
-//! compensated sample per recorded sample (design.md "One pipeline, three drivers", driver 2).
+//! compensated sample per recorded sample (docs/design.md "One pipeline, three drivers", driver 2).
 //!
 //! - [`connect`]: the client ports in the configured iceoryx2 domain, and whether a daemon is
 //!   already serving it.
