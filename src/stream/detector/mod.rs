@@ -53,6 +53,11 @@ pub struct Decision {
     pub discard: usize,
     /// Whether the pending queue is flushed (committed or discarded) on this sample.
     pub flush: bool,
+    /// The drift estimate is wrong and must be relearnt: the detector has been "moving" on its
+    /// own for long with a residual that does not change (a deadlock: a bias learnt from motion,
+    /// or a bias step, makes every later sample look moving). The pending samples are
+    /// discarded and the estimators start afresh.
+    pub relearn: bool,
 }
 
 /// Counts of what a detector did (totals since start).
@@ -64,6 +69,8 @@ pub struct DetectorCounters {
     pub alarms: u64,
     /// Samples flagged moving only by the hysteresis (settling after an alarm).
     pub settling: u64,
+    /// Drift estimates relearnt after a deadlock ([`Decision::relearn`]).
+    pub relearns: u64,
 }
 
 /// A static/moving detector for three axes (module documentation); allocates nothing per

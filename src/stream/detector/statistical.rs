@@ -52,6 +52,10 @@ pub struct StatisticalConfig {
     pub settle_s: f64,
     /// Extra pending seconds discarded before a detected onset.
     pub guard_s: f64,
+    /// Deadlock breaker: seconds of "moving" found by the detector alone (no publisher flag)
+    /// over which the residual stayed the same (module documentation) before the drift estimate
+    /// is relearnt; 0 = never.
+    pub relearn_s: f64,
 }
 
 impl Default for StatisticalConfig {
@@ -62,6 +66,7 @@ impl Default for StatisticalConfig {
             variance_window_s: 2.0,
             settle_s: 5.0,
             guard_s: 2.0,
+            relearn_s: 600.0,
         }
     }
 }
@@ -84,6 +89,13 @@ impl StatisticalConfig {
             if !(v.is_finite() && (0.0..=3600.0).contains(&v)) {
                 return Err(format!("motion.{key}: {v} must lie in [0, 3600] s"));
             }
+        }
+        let longest = self.windows_s.last().copied().unwrap_or(0.0);
+        if !(self.relearn_s == 0.0 || (self.relearn_s.is_finite() && self.relearn_s >= 2.0 * longest && self.relearn_s <= 86_400.0)) {
+            return Err(format!(
+                "motion.relearn_s: {} must be 0 (never) or lie in [2 × the longest window ({longest} s), 86400] s",
+                self.relearn_s
+            ));
         }
         Ok(())
     }
@@ -151,6 +163,34 @@ pub struct StatisticalDetector {
     since_alarm: usize,
     moving: bool,
     counters: DetectorCounters,
+    /// Deadlock watch over the current detector-only moving run.
+    stuck: StuckWatch,
+    /// Relearn after this many stable blocks (0: never).
+    relearn_blocks: usize,
+}
+
+/// The deadlock watch (module documentation): the residual of a moving run that only the
+/// detector sees, in blocks of the longest window. It counts the run's blocks and the latest
+/// consecutive blocks whose means agree (each axis within z·√(2·v(block)) of the previous one,
+/// the variance test quiet in both).
+#[derive(Debug, Clone, Default)]
+struct StuckWatch {
+    sum: [f64; 3],
+    filled: usize,
+    previous: Option<[f64; 3]>,
+    blocks: usize,
+    steady: usize,
+    variance_fired: bool,
+}
+
+/// Agreeing consecutive block pairs the deadlock watch needs at the end of a long run (three
+/// blocks of the longest window: 3 min by default).
+pub const STEADY_BLOCKS: usize = 2;
+
+impl StuckWatch {
+    fn reset(&mut self) {
+        *self = Self::default();
+    }
 }
 
 impl StatisticalDetector {
@@ -173,6 +213,8 @@ impl StatisticalDetector {
             since_alarm: 0,
             moving: false,
             counters: DetectorCounters::default(),
+            stuck: StuckWatch::default(),
+            relearn_blocks: 0,
         }
     }
 
@@ -187,7 +229,7 @@ impl StatisticalDetector {
     /// of the change point, evaluated at the window lengths (a fast turn peaks at the shortest
     /// window, a slow ramp at the span it has lasted); the variance window when only the
     /// variance test fires. `n` is truncated at the last alarm.
-    fn fired(&self, input: &DetectorInput<'_>) -> Option<usize> {
+    fn fired(&mut self, input: &DetectorInput<'_>) -> Option<usize> {
         let since = self.since_alarm;
         let mut best: Option<(f64, usize)> = None;
         let mut variance_fired = false;
@@ -219,6 +261,7 @@ impl StatisticalDetector {
                 variance_fired |= scatter / s2 > self.chi2[n];
             }
         }
+        self.stuck.variance_fired |= variance_fired;
         let onset = match best {
             Some((t, _)) if t > self.z2 => {
                 let n = self.change_point(input);
@@ -260,6 +303,45 @@ impl StatisticalDetector {
         best.1
     }
 
+    /// Feeds the deadlock watch with this sample's residual; true when the drift estimate must
+    /// be relearnt. Only a moving run that the detector alone sees counts (the publisher's flag
+    /// says the platform moves: nothing is wrong with the reference).
+    fn watch_for_deadlock(&mut self, input: &DetectorInput<'_>) -> bool {
+        if !self.moving || input.publisher_moving || self.relearn_blocks == 0 {
+            self.stuck.reset();
+            return false;
+        }
+        for k in 0..3 {
+            self.stuck.sum[k] += input.rate[k] - input.drift[k].drift;
+        }
+        self.stuck.filled += 1;
+        if self.stuck.filled < self.longest {
+            return false;
+        }
+        let n = self.longest as f64;
+        let mean: [f64; 3] = std::array::from_fn(|k| self.stuck.sum[k] / n);
+        let same = self.stuck.previous.is_some_and(|prev| {
+            (0..3).all(|k| {
+                input.noise[k].mean_variance(self.longest).is_some_and(|v| {
+                    let d = mean[k] - prev[k];
+                    d * d <= self.z2 * 2.0 * v
+                })
+            })
+        });
+        self.stuck.steady = if same && !self.stuck.variance_fired { self.stuck.steady + 1 } else { 0 };
+        self.stuck.blocks += 1;
+        self.stuck.previous = if self.stuck.variance_fired { None } else { Some(mean) };
+        self.stuck.sum = [0.0; 3];
+        self.stuck.filled = 0;
+        self.stuck.variance_fired = false;
+        if self.stuck.blocks < self.relearn_blocks || self.stuck.steady < STEADY_BLOCKS {
+            return false;
+        }
+        self.counters.relearns += 1;
+        self.stuck.reset();
+        true
+    }
+
     /// Extends a look-back span of `n` samples over the older windows while the segment between
     /// them is itself significant at the relaxed level √α: a motion that builds up slowly (a
     /// ramp) is found by its recent, strongest part, but began well before it; a turn after a
@@ -298,7 +380,7 @@ impl MotionDetector for StatisticalDetector {
     fn push(&mut self, input: &DetectorInput<'_>) -> Decision {
         if self.windows.is_empty() {
             // Period not known yet: nothing to size the windows with.
-            return Decision { moving: input.publisher_moving, discard: 0, flush: input.publisher_moving };
+            return Decision { moving: input.publisher_moving, flush: input.publisher_moving, ..Decision::default() };
         }
         if input.drift.iter().any(|d| !d.variance.is_finite()) {
             // No drift estimate to test against yet: a residual against an unknown bias would
@@ -309,7 +391,7 @@ impl MotionDetector for StatisticalDetector {
             self.since_alarm = 0;
             let flush = input.publisher_moving && !self.moving;
             self.moving = input.publisher_moving;
-            return Decision { moving: self.moving, discard: 0, flush };
+            return Decision { moving: self.moving, flush, ..Decision::default() };
         }
         for k in 0..3 {
             self.rings[k].push(input.rate[k] - input.drift[k].drift);
@@ -341,6 +423,7 @@ impl MotionDetector for StatisticalDetector {
             self.counters.settling += 1;
         }
         decision.moving = self.moving;
+        decision.relearn = self.watch_for_deadlock(input);
         decision
     }
 
@@ -364,6 +447,9 @@ impl MotionDetector for StatisticalDetector {
         self.longest = self.windows.iter().copied().max().unwrap_or(1);
         let longest = self.longest.max(self.variance_window);
         self.delay = longest + self.guard;
+        // The run's length in whole blocks of the longest window.
+        self.relearn_blocks = if self.config.relearn_s > 0.0 { (span(self.config.relearn_s) / self.longest).max(1) } else { 0 };
+        self.stuck.reset();
         self.rings = std::array::from_fn(|_| PrefixRing::with_capacity(longest + 1));
         self.since_alarm = 0;
     }
@@ -396,11 +482,11 @@ mod tests {
     fn setup() -> (StatisticalDetector, [NoiseCalibration; 3], Xoshiro256PlusPlus) {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(42);
         let mut noise: [NoiseCalibration; 3] = Default::default();
-        for _ in 0..20_000 {
+        for i in 0..20_000 {
             for n in &mut noise {
                 let x = SIGMA * normal(&mut rng);
                 n.observe(x);
-                n.commit(x);
+                n.commit(i, x);
             }
         }
         let mut d = StatisticalDetector::new(StatisticalConfig::default());
@@ -459,5 +545,39 @@ mod tests {
         // The publisher's flag: moving at once, nothing discarded.
         let dec = push(&mut d, &noise, [0.0; 3], true);
         assert!(dec.moving && dec.flush && dec.discard == 0, "{dec:?}");
+    }
+
+    #[test]
+    fn a_steady_offset_for_relearn_s_relearns_once_but_a_changing_or_flagged_one_never() {
+        // A wrong reference: every sample is 0.3 deg/s (3σ) off, for 15 min. The detector says
+        // moving throughout; after relearn_s (600 s) with the last three 60 s blocks agreeing, it
+        // asks for a relearn — once, then the watch starts over.
+        let (mut d, noise, mut rng) = setup();
+        let mut relearnt = Vec::new();
+        for i in 0..9_000 {
+            let r: [f64; 3] = std::array::from_fn(|k| SIGMA * normal(&mut rng) + if k == 0 { 0.3 } else { 0.0 });
+            let dec = push(&mut d, &noise, r, false);
+            assert!(dec.moving || i < 5, "sample {i} static against a 3σ offset");
+            if dec.relearn {
+                relearnt.push(i);
+            }
+        }
+        assert!(relearnt.len() == 1 && (5_990..6_010).contains(&relearnt[0]), "relearn once, after 600 s (10 blocks): {relearnt:?}");
+        assert_eq!(d.counters().relearns, 1);
+        // The same offset, but the publisher says moving: its flag is the truth, never relearn.
+        let (mut d, noise, mut rng) = setup();
+        for _ in 0..9_000 {
+            let r: [f64; 3] = std::array::from_fn(|k| SIGMA * normal(&mut rng) + if k == 0 { 0.3 } else { 0.0 });
+            assert!(!push(&mut d, &noise, r, true).relearn);
+        }
+        // A residual that changes from block to block (a long motion: 0.3 deg/s ± 0.1 alternating
+        // every minute, 20σ of a block mean) is motion, not a wrong reference.
+        let (mut d, noise, mut rng) = setup();
+        for i in 0..18_000 {
+            let step = if (i / 600) % 2 == 0 { 0.1 } else { -0.1 };
+            let r: [f64; 3] = std::array::from_fn(|k| SIGMA * normal(&mut rng) + if k == 0 { 0.3 + step } else { 0.0 });
+            let dec = push(&mut d, &noise, r, false);
+            assert!(dec.moving && !dec.relearn || i < 5, "sample {i}: {dec:?}");
+        }
     }
 }

@@ -35,7 +35,7 @@ impl MotionDetector for ThresholdDetector {
             self.counters.onsets += 1;
         }
         self.was_moving = moving;
-        Decision { moving, discard: 0, flush: false }
+        Decision { moving, ..Decision::default() }
     }
 
     fn commit_delay(&self) -> usize {

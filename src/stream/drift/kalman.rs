@@ -163,6 +163,10 @@ impl DriftEstimator for KalmanBias {
         self.last_index = warm.last_commit;
     }
 
+    fn relearn(&mut self) {
+        self.variance = f64::INFINITY;
+    }
+
     fn kalman_counters(&self) -> Option<KalmanCounters> {
         Some(self.counters)
     }

@@ -98,6 +98,14 @@ pub trait DriftEstimator: fmt::Debug + Send {
     /// Restores what [`DriftEstimator::warm`] copied.
     fn restore(&mut self, warm: &AxisWarm);
 
+    /// Forgets the estimate: the detector found it wrong ([`Decision::relearn`]); the next
+    /// commits start afresh (and until then the pending samples' mean stands in, as at
+    /// start-up). Estimators that hold no such state ignore it (start-up bias-hold holds by
+    /// definition).
+    ///
+    /// [`Decision::relearn`]: crate::stream::detector::Decision::relearn
+    fn relearn(&mut self) {}
+
     /// The sample period (s) became known: estimators that work in seconds size themselves.
     fn set_period(&mut self, _period_s: f64) {}
 
