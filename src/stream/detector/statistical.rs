@@ -304,10 +304,15 @@ impl StatisticalDetector {
     }
 
     /// Feeds the deadlock watch with this sample's residual; true when the drift estimate must
-    /// be relearnt. Only a moving run that the detector alone sees counts (the publisher's flag
-    /// says the platform moves: nothing is wrong with the reference).
+    /// be relearnt. Only samples that the detector alone calls moving count; samples the
+    /// publisher flags are skipped (the run goes on across them), a static one ends the run.
     fn watch_for_deadlock(&mut self, input: &DetectorInput<'_>) -> bool {
-        if !self.moving || input.publisher_moving || self.relearn_blocks == 0 {
+        if input.publisher_moving {
+            // The publisher says the platform moves: its samples say nothing about the
+            // reference. The watch pauses (a deadlock persists across flagged motions).
+            return false;
+        }
+        if !self.moving || self.relearn_blocks == 0 {
             self.stuck.reset();
             return false;
         }
@@ -564,7 +569,18 @@ mod tests {
         }
         assert!(relearnt.len() == 1 && (5_990..6_010).contains(&relearnt[0]), "relearn once, after 600 s (10 blocks): {relearnt:?}");
         assert_eq!(d.counters().relearns, 1);
-        // The same offset, but the publisher says moving: its flag is the truth, never relearn.
+        // A flagged motion within the run pauses the watch, it does not end the run: the relearn
+        // comes 10 s later.
+        let (mut d, noise, mut rng) = setup();
+        let mut relearnt = Vec::new();
+        for i in 0..9_000 {
+            let r: [f64; 3] = std::array::from_fn(|k| SIGMA * normal(&mut rng) + if k == 0 { 0.3 } else { 0.0 });
+            if push(&mut d, &noise, r, (3_000..3_100).contains(&i)).relearn {
+                relearnt.push(i);
+            }
+        }
+        assert!(relearnt.len() == 1 && (6_090..6_110).contains(&relearnt[0]), "{relearnt:?}");
+        // The same offset, but the publisher says moving throughout: never relearn.
         let (mut d, noise, mut rng) = setup();
         for _ in 0..9_000 {
             let r: [f64; 3] = std::array::from_fn(|k| SIGMA * normal(&mut rng) + if k == 0 { 0.3 } else { 0.0 });
