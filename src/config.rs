@@ -163,12 +163,14 @@ pub struct DriftSection {
     pub innovation_gate: f64,
     /// bias-hold: start-up seconds averaged.
     pub startup_s: f64,
+    /// Kalman: learn a temperature coefficient when samples carry `temp_c`.
+    pub temperature: bool,
 }
 
 impl Default for DriftSection {
     fn default() -> Self {
         let d = DriftConfig::default();
-        Self { estimator: d.kind, innovation_gate: d.innovation_gate, startup_s: d.startup_s }
+        Self { estimator: d.kind, innovation_gate: d.innovation_gate, startup_s: d.startup_s, temperature: d.temperature }
     }
 }
 
@@ -586,7 +588,12 @@ impl Config {
             motion: MotionConfig { rate_dps: m.rate_dps, variance_dps2: m.variance_dps2, window: m.window },
             detector: m.detector,
             statistical,
-            drift: DriftConfig { kind: d.estimator, innovation_gate: d.innovation_gate, startup_s: d.startup_s },
+            drift: DriftConfig {
+                kind: d.estimator,
+                innovation_gate: d.innovation_gate,
+                startup_s: d.startup_s,
+                temperature: d.temperature,
+            },
             input: InputConfig {
                 range_dps: i.range_dps,
                 period_ns,

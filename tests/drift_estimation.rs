@@ -191,3 +191,42 @@ fn a_bias_learnt_from_a_rotation_at_power_on_is_relearnt() {
     assert!(off > 0.5 && stuck.last().unwrap().status & STATUS_MOVING != 0, "without relearning: drift {off} off");
     assert_eq!(q.stats().detector.relearns, 0);
 }
+
+#[test]
+fn the_temperature_term_follows_a_bias_that_moves_with_temperature_while_moving() {
+    // An ADIS-like white noise with a temperature coefficient of 0.01 deg/s/°C: the temperature
+    // rises 6 °C and falls back while static (so c can be learnt), then rises 4 °C during a
+    // 600 s motion the publisher flags. The bias moves 0.04 deg/s during the motion; the
+    // temperature term predicts it, the scalar tracker holds the bias of the motion's start.
+    let sim = SimConfig::from_toml(
+        "rate_hz = 10.0\nduration_s = 3700.0\n\
+         [temperature]\nstart_c = 20.0\nramps = [{ start_s = 200.0, duration_s = 1000.0, delta_c = 6.0 }, \
+         { start_s = 1800.0, duration_s = 1000.0, delta_c = -6.0 }, { start_s = 3000.0, duration_s = 600.0, delta_c = 4.0 }]\n\
+         [axis]\nbias_dps = 0.3\narw_deg_rt_h = 2.4\ntemperature_coefficient = { dps_per_c = 0.01, reference_c = 20.0 }\n",
+    )
+    .unwrap();
+    let out = Generator::generate(&sim, 21).unwrap();
+    let inputs: Vec<InputSample> = (0..out.t_s.len())
+        .map(|k| {
+            let mut s = InputSample::new(k as u64, (out.t_s[k] * 1e9).round() as u64, [out.axes[0].raw[k], 0.0, 0.0]);
+            s.temp_c = out.temp_c[k];
+            if (3000.0..3600.0).contains(&out.t_s[k]) {
+                s.flags = gyrocomp::stream::FLAG_MOVING;
+            }
+            s
+        })
+        .collect();
+    let end = out.t_s.iter().position(|&t| t >= 3599.0).unwrap();
+    let error_at_end = |config: &Config| {
+        let (_, outputs) = process(config, &inputs);
+        assert!(outputs[end].status & STATUS_MOVING != 0);
+        (outputs[end].drift_dps[0] - out.axes[0].drift[end]).abs()
+    };
+    let with = error_at_end(&Config::default());
+    let mut scalar = Config::default();
+    scalar.drift.temperature = false;
+    let without = error_at_end(&scalar);
+    eprintln!("drift error at the end of the motion: with the temperature term {with:.4}, without {without:.4} deg/s");
+    assert!(with < 0.01, "with the temperature term: {with}");
+    assert!(without > 0.03, "without: {without} (the bias moved 0.04 deg/s)");
+}

@@ -9,6 +9,8 @@ use super::drift::PendingMean;
 pub struct PendingQueue {
     index: Vec<u64>,
     rate: Vec<[f64; 3]>,
+    /// Temperature of each sample, °C (NaN: none).
+    temp: Vec<f64>,
     /// Position of the oldest entry.
     head: usize,
     len: usize,
@@ -19,16 +21,16 @@ impl PendingQueue {
     /// Room for `delay` pending samples plus the one being pushed.
     pub fn new(delay: usize) -> Self {
         let cap = delay + 1;
-        Self { index: vec![0; cap], rate: vec![[0.0; 3]; cap], head: 0, len: 0, sum: [0.0; 3] }
+        Self { index: vec![0; cap], rate: vec![[0.0; 3]; cap], temp: vec![f64::NAN; cap], head: 0, len: 0, sum: [0.0; 3] }
     }
 
     /// Resizes for a new delay (the period became known); pending samples are kept, oldest
     /// first, as far as they fit.
     pub fn set_capacity(&mut self, delay: usize) {
         let mut next = Self::new(delay);
-        while let Some((i, r)) = self.pop_oldest() {
+        while let Some((i, r, t)) = self.pop_oldest() {
             if next.len < next.index.len() {
-                next.push(i, r);
+                next.push(i, r, t);
             }
         }
         *self = next;
@@ -49,25 +51,27 @@ impl PendingQueue {
         PendingMean { count: self.len as u64, sum: self.sum[k] }
     }
 
-    /// Appends a sample (the caller pops before the ring overflows: at most `delay + 1`).
-    pub fn push(&mut self, index: u64, rate: [f64; 3]) {
+    /// Appends a sample with its temperature (°C, NaN: none); the caller pops before the ring
+    /// overflows (at most `delay + 1`).
+    pub fn push(&mut self, index: u64, rate: [f64; 3], temp_c: f64) {
         let cap = self.index.len();
         debug_assert!(self.len < cap, "pending queue overflow");
         let slot = (self.head + self.len) % cap;
         self.index[slot] = index;
         self.rate[slot] = rate;
+        self.temp[slot] = temp_c;
         self.len += 1;
         for (s, r) in self.sum.iter_mut().zip(rate) {
             *s += r;
         }
     }
 
-    /// Removes and returns the oldest sample.
-    pub fn pop_oldest(&mut self) -> Option<(u64, [f64; 3])> {
+    /// Removes and returns the oldest sample: index, rates, temperature.
+    pub fn pop_oldest(&mut self) -> Option<(u64, [f64; 3], f64)> {
         if self.len == 0 {
             return None;
         }
-        let out = (self.index[self.head], self.rate[self.head]);
+        let out = (self.index[self.head], self.rate[self.head], self.temp[self.head]);
         self.head = (self.head + 1) % self.index.len();
         self.len -= 1;
         self.subtract(&out.1);
@@ -107,13 +111,13 @@ mod tests {
     fn fifo_order_sums_and_look_back() {
         let mut q = PendingQueue::new(3);
         for i in 0..4 {
-            q.push(i, [i as f64, 1.0, 0.0]);
+            q.push(i, [i as f64, 1.0, 0.0], 20.0 + i as f64);
         }
         assert_eq!(q.mean(0), PendingMean { count: 4, sum: 6.0 });
-        assert_eq!(q.pop_oldest(), Some((0, [0.0, 1.0, 0.0])));
+        assert_eq!(q.pop_oldest(), Some((0, [0.0, 1.0, 0.0], 20.0)));
         assert_eq!(q.drop_newest(1), 1);
         assert_eq!(q.mean(0), PendingMean { count: 2, sum: 3.0 });
-        q.push(9, [5.0, 0.0, 0.0]);
+        q.push(9, [5.0, 0.0, 0.0], f64::NAN);
         assert_eq!(q.pop_oldest().map(|p| p.0), Some(1));
         assert_eq!(q.pop_oldest().map(|p| p.0), Some(2));
         assert_eq!(q.pop_oldest().map(|p| p.0), Some(9));

@@ -229,7 +229,9 @@ impl Pipeline {
         let period = PeriodEstimate::new(config.input.period_ns);
         let axis = || -> Result<AxisState, PipelineError> {
             let estimator: Box<dyn DriftEstimator> = match config.drift.kind {
-                EstimatorKind::Kalman => Box::new(KalmanBias::new(config.drift.innovation_gate)),
+                EstimatorKind::Kalman => {
+                    Box::new(KalmanBias::new(config.drift.innovation_gate, config.drift.temperature))
+                }
                 EstimatorKind::BiasHold => Box::new(StartupHold::new(config.drift.startup_s)),
                 EstimatorKind::CpsoLssvm => Box::new(
                     ModelForecast::new(config.causal.clone(), history, config.bias_samples)
@@ -455,7 +457,7 @@ impl Pipeline {
             }
         } else {
             self.observe_time(input.t_ns);
-            let estimates = self.predict(index, &input.rate_dps);
+            let estimates = self.predict(index, &input.rate_dps, input.temp_c);
             let decision = self.detector.push(&DetectorInput {
                 rate: &input.rate_dps,
                 drift: &estimates,
@@ -472,6 +474,8 @@ impl Pipeline {
             }
             for (k, a) in self.axes.iter_mut().enumerate() {
                 let e = if decision.moving {
+                    // Commits may have set another sample's temperature since the prediction.
+                    a.estimator.set_temperature(input.temp_c);
                     a.estimator.predict_moving(index, self.queue.mean(k), &self.noise[k])
                 } else {
                     estimates[k]
@@ -485,10 +489,10 @@ impl Pipeline {
                 }
             }
             if !decision.moving {
-                self.queue.push(index, input.rate_dps);
+                self.queue.push(index, input.rate_dps, input.temp_c);
                 while self.queue.len() > self.detector.commit_delay() {
-                    let Some((i, r)) = self.queue.pop_oldest() else { break };
-                    self.commit(i, &r);
+                    let Some((i, r, t)) = self.queue.pop_oldest() else { break };
+                    self.commit(i, &r, t);
                 }
                 self.check.accept_static(&input.rate_dps);
             }
@@ -515,10 +519,12 @@ impl Pipeline {
         }
     }
 
-    /// Each axis' drift estimate for the sample at `index`; feeds the start-up σ first.
-    fn predict(&mut self, index: u64, rate: &[f64; 3]) -> [DriftEstimate; 3] {
+    /// Each axis' drift estimate for the sample at `index` (temperature `temp_c`, NaN: none);
+    /// feeds the start-up σ first.
+    fn predict(&mut self, index: u64, rate: &[f64; 3], temp_c: f64) -> [DriftEstimate; 3] {
         std::array::from_fn(|k| {
             self.noise[k].observe(rate[k]);
+            self.axes[k].estimator.set_temperature(temp_c);
             self.axes[k].estimator.predict(index, self.queue.mean(k), &self.noise[k])
         })
     }
@@ -543,17 +549,18 @@ impl Pipeline {
             return;
         }
         self.stats.discarded += self.queue.drop_newest(decision.discard) as u64;
-        while let Some((i, r)) = self.queue.pop_oldest() {
-            self.commit(i, &r);
+        while let Some((i, r, t)) = self.queue.pop_oldest() {
+            self.commit(i, &r, t);
         }
     }
 
     /// Commits a confirmed static sample: calibration first (so the first commit has a noise
     /// figure), then the estimator.
-    fn commit(&mut self, index: u64, rate: &[f64; 3]) {
+    fn commit(&mut self, index: u64, rate: &[f64; 3], temp_c: f64) {
         self.stats.committed += 1;
         for (k, a) in self.axes.iter_mut().enumerate() {
             self.noise[k].commit(index, rate[k]);
+            a.estimator.set_temperature(temp_c);
             a.estimator.commit(index, rate[k], &self.noise[k]);
         }
     }

@@ -115,6 +115,9 @@ pub struct AxisWarm {
     pub variance: f64,
     /// Kalman: sample index of the last committed sample.
     pub last_commit: u64,
+    /// Kalman temperature term, once a temperature was committed: coefficient c (deg/s/°C),
+    /// Cov(b, c), Var(c) and T₀ (°C).
+    pub temperature: Option<[f64; 4]>,
     /// The axis' self-calibration (online Allan variance, running σ).
     pub noise: NoiseCalibration,
     /// Drift subtracted from the last accepted sample (held during motion).
@@ -131,6 +134,7 @@ impl AxisWarm {
             && self.noise.is_valid()
             && [self.bias, self.drift, self.comp]
             .iter()
+            .chain(self.temperature.iter().flatten())
             .chain(&self.denoiser_window)
             .chain(&self.history)
             .all(|v| v.is_finite())

@@ -18,6 +18,14 @@
 //! reference r = ω − b̂ along with it, so the detector never finds it (on ADIS run 1 with the
 //! mixed profile the estimate absorbed a 1 deg/s rotation that way).
 //!
+//! Temperature term (issue 13, item 4, optional: `[drift] temperature`): when samples carry a
+//! temperature T, the state is (b, c) with measurement z = b + c·(T − T₀) + v, T₀ the first
+//! committed temperature, c constant (no process noise) with a weak prior (σ_c = 10·√R per °C,
+//! i.e. ten per-sample σ per degree: the data decide within a degree or so of variation). The
+//! drift of a sample at temperature T is b + c·(T − T₀), so a bias that follows the temperature
+//! (a warm-up by self-heating) is followed while moving too, and the detector's reference
+//! moves with it. A constant or absent temperature leaves the filter scalar (T − T₀ = 0).
+//!
 //! Innovation gate: a committed sample whose normalised innovation squared ν²/(P + R) exceeds
 //! the χ²(1) quantile of the configured tail probability is not used (a spike or slow motion the
 //! detector missed), and counted; the NIS sum over all commits is kept for consistency checks
@@ -48,12 +56,25 @@ impl KalmanCounters {
     }
 }
 
+/// Prior variance of the temperature coefficient per R, per °C²: σ_c = 10·√R per °C.
+const TEMPERATURE_PRIOR: f64 = 100.0;
+
 /// Random-walk bias tracker of one axis (module documentation).
 #[derive(Debug, Clone)]
 pub struct KalmanBias {
     bias: f64,
     /// Variance of `bias`; +∞ before the first commit.
     variance: f64,
+    /// Whether the temperature term is used.
+    temperature: bool,
+    /// Temperature coefficient c, deg/s per °C, its covariance with the bias and its variance.
+    coef: f64,
+    cov_bc: f64,
+    var_c: f64,
+    /// T₀, °C (`None` until a commit carried a temperature).
+    reference_c: Option<f64>,
+    /// Temperature of the sample the next predict or commit refers to (NaN: none).
+    temp_c: f64,
     last_index: u64,
     q: f64,
     r: f64,
@@ -63,11 +84,18 @@ pub struct KalmanBias {
 }
 
 impl KalmanBias {
-    /// A tracker with no data; `gate_probability` is the innovation gate's χ²(1) tail.
-    pub fn new(gate_probability: f64) -> Self {
+    /// A tracker with no data; `gate_probability` is the innovation gate's χ²(1) tail;
+    /// `temperature` switches the temperature term on (module documentation).
+    pub fn new(gate_probability: f64, temperature: bool) -> Self {
         Self {
             bias: 0.0,
             variance: f64::INFINITY,
+            temperature,
+            coef: 0.0,
+            cov_bc: 0.0,
+            var_c: 0.0,
+            reference_c: None,
+            temp_c: f64::NAN,
             last_index: 0,
             q: 0.0,
             r: f64::NAN,
@@ -96,6 +124,19 @@ impl KalmanBias {
     pub fn noise(&self) -> (f64, f64) {
         (self.q, self.r)
     }
+
+    /// The temperature coefficient c (deg/s per °C) and T₀, once a temperature was committed.
+    pub fn temperature_coefficient(&self) -> Option<(f64, f64)> {
+        self.reference_c.map(|t0| (self.coef, t0))
+    }
+
+    /// T − T₀ of the current sample: 0 without the term, a temperature or a reference.
+    fn temperature_offset(&self) -> f64 {
+        match self.reference_c {
+            Some(t0) if self.temperature && self.temp_c.is_finite() => self.temp_c - t0,
+            _ => 0.0,
+        }
+    }
 }
 
 impl DriftEstimator for KalmanBias {
@@ -107,7 +148,10 @@ impl DriftEstimator for KalmanBias {
         self.recalibrate(noise);
         if self.variance.is_finite() {
             let p = self.variance + self.q * now.saturating_sub(self.last_index) as f64;
-            return DriftEstimate { drift: self.bias, variance: p, from_model: true };
+            let d = self.temperature_offset();
+            // Var(b + c·d) = P_bb + 2d·P_bc + d²·P_cc.
+            let variance = (p + 2.0 * d * self.cov_bc + d * d * self.var_c).max(0.0);
+            return DriftEstimate { drift: self.bias + self.coef * d, variance, from_model: true };
         }
         // Nothing committed yet (start-up): the mean of the pending samples.
         match pending.count {
@@ -130,11 +174,23 @@ impl DriftEstimator for KalmanBias {
             self.bias = raw;
             self.variance = self.r;
             self.last_index = index;
+            self.coef = 0.0;
+            self.cov_bc = 0.0;
+            self.var_c = TEMPERATURE_PRIOR * self.r;
+            self.reference_c = (self.temperature && self.temp_c.is_finite()).then_some(self.temp_c);
             return;
         }
+        if self.reference_c.is_none() && self.temperature && self.temp_c.is_finite() {
+            // The first temperature seen: it becomes T₀ (the bias so far is at T₀).
+            self.reference_c = Some(self.temp_c);
+            self.var_c = TEMPERATURE_PRIOR * self.r;
+        }
         let p = self.variance + self.q * index.saturating_sub(self.last_index) as f64;
-        let s = p + self.r;
-        let nu = raw - self.bias;
+        let d = self.temperature_offset();
+        // h = [1, d]: P·hᵀ = (P_bb + d·P_bc, P_bc + d·P_cc), S = h·P·hᵀ + R.
+        let ph = [p + d * self.cov_bc, self.cov_bc + d * self.var_c];
+        let s = ph[0] + d * ph[1] + self.r;
+        let nu = raw - self.bias - self.coef * d;
         let nis = nu * nu / s;
         self.counters.nis_sum += nis;
         self.counters.nis_count += 1;
@@ -144,14 +200,23 @@ impl DriftEstimator for KalmanBias {
             self.variance = p;
             return;
         }
-        let g = p / s;
-        self.bias += g * nu;
-        self.variance = (1.0 - g) * p;
+        // Gain K = P·hᵀ/S; P ← P − K·(P·hᵀ)ᵀ (for d = 0 the scalar filter, c untouched).
+        let k = [ph[0] / s, ph[1] / s];
+        self.bias += k[0] * nu;
+        self.coef += k[1] * nu;
+        self.variance = (p - k[0] * ph[0]).max(0.0);
+        self.cov_bc -= k[0] * ph[1];
+        self.var_c = (self.var_c - k[1] * ph[1]).max(0.0);
+    }
+
+    fn set_temperature(&mut self, temp_c: f64) {
+        self.temp_c = temp_c;
     }
 
     fn warm(&self, warm: &mut AxisWarm) {
         warm.bias = self.bias;
         warm.variance = self.variance;
+        warm.temperature = self.reference_c.map(|t0| [self.coef, self.cov_bc, self.var_c, t0]);
         warm.bias_count = self.counters.commits;
         warm.last_commit = self.last_index;
     }
@@ -159,12 +224,19 @@ impl DriftEstimator for KalmanBias {
     fn restore(&mut self, warm: &AxisWarm) {
         self.bias = warm.bias;
         self.variance = warm.variance;
+        match warm.temperature {
+            Some([coef, cov_bc, var_c, t0]) => {
+                (self.coef, self.cov_bc, self.var_c, self.reference_c) = (coef, cov_bc, var_c, Some(t0));
+            }
+            None => (self.coef, self.cov_bc, self.var_c, self.reference_c) = (0.0, 0.0, 0.0, None),
+        }
         self.counters.commits = warm.bias_count;
         self.last_index = warm.last_commit;
     }
 
     fn relearn(&mut self) {
         self.variance = f64::INFINITY;
+        self.reference_c = None;
     }
 
     fn kalman_counters(&self) -> Option<KalmanCounters> {

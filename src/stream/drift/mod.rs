@@ -72,6 +72,12 @@ pub trait DriftEstimator: fmt::Debug + Send {
     /// A confirmed static sample `raw` (deg/s) taken at index `index`.
     fn commit(&mut self, index: u64, raw: f64, noise: &NoiseCalibration);
 
+    /// The temperature (°C; NaN when the sample has none) of the sample the next
+    /// [`DriftEstimator::predict`], [`DriftEstimator::predict_moving`] or
+    /// [`DriftEstimator::commit`] refers to; the pipeline sets it before each. Estimators without
+    /// a temperature term ignore it.
+    fn set_temperature(&mut self, _temp_c: f64) {}
+
     /// The model slot a background retrainer installs into (`None`: the estimator needs none).
     fn model_slot(&self) -> Option<&Arc<ModelSlot>> {
         None
@@ -174,10 +180,13 @@ pub struct DriftConfig {
     pub innovation_gate: f64,
     /// bias-hold: seconds of start-up static samples averaged.
     pub startup_s: f64,
+    /// Kalman: learn a temperature coefficient (bias = b + c·(T − T₀)) when samples carry a
+    /// temperature.
+    pub temperature: bool,
 }
 
 impl Default for DriftConfig {
     fn default() -> Self {
-        Self { kind: EstimatorKind::Kalman, innovation_gate: 1e-6, startup_s: 60.0 }
+        Self { kind: EstimatorKind::Kalman, innovation_gate: 1e-6, startup_s: 60.0, temperature: true }
     }
 }
