@@ -85,10 +85,10 @@ impl Welch {
         for s in 0..segments {
             let seg = &x[s * step..s * step + l];
             let mean = seg.iter().sum::<f64>() / l as f64;
-            for j in 0..l {
-                self.re[j] = (seg[j] - mean) * self.window[j];
-                self.im[j] = 0.0;
+            for ((re, &v), &w) in self.re.iter_mut().zip(seg).zip(&self.window) {
+                *re = (v - mean) * w;
             }
+            self.im.fill(0.0);
             self.fft.forward(&mut self.re, &mut self.im);
             for (k, d) in density.iter_mut().enumerate() {
                 *d += self.re[k] * self.re[k] + self.im[k] * self.im[k];

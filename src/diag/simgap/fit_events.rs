@@ -123,7 +123,7 @@ fn median5_residual(x: &[f64]) -> Vec<f64> {
 pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
     let r = median5_residual(x);
     let sigma = mad_sigma(&r);
-    if !(sigma > 0.0) {
+    if sigma.is_nan() || sigma <= 0.0 {
         return Fitted::NotApplicable("constant series".into());
     }
     let limit = SPIKE_SIGMAS * sigma;
@@ -152,7 +152,7 @@ pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
 /// The grid step of the values of `x`, when they sit on one (module docs).
 pub fn detect_grid(x: &[f64]) -> Option<f64> {
     let scale = x.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
-    if x.len() < 16 || !(scale > 0.0) {
+    if x.len() < 16 || scale.is_nan() || scale <= 0.0 {
         return None;
     }
     let tol = 1e-9 * scale;
