@@ -4,11 +4,11 @@
 //!
 //! - segments of L samples starting every L/2 samples, ⌊(N − L/2)/(L/2)⌋ of them;
 //! - each segment's mean removed, then multiplied by the periodic Hann window
-//!   w[j] = ½ − ½·cos(2πj/L);
-//! - P[k] = |FFT(w·x)[k]|² / (f_s·Σw²), doubled for 0 < k < L/2 (one-sided density), averaged over
+//!   w\[j] = ½ − ½·cos(2πj/L);
+//! - P\[k] = |FFT(w·x)\[k]|² / (f_s·Σw²), doubled for 0 < k < L/2 (one-sided density), averaged over
 //!   the segments.
 //!
-//! The unit is (input unit)²/Hz, e.g. (deg/s)²/Hz; Σ_k P[k]·f_s/L ≈ the variance of the series.
+//! The unit is (input unit)²/Hz, e.g. (deg/s)²/Hz; Σ_k P\[k]·f_s/L ≈ the variance of the series.
 //! `tests/goldens/psd.json` (tools/goldens/psd_goldens.py) holds scipy's result.
 
 use std::f64::consts::TAU;

@@ -1,11 +1,11 @@
 //! Fits of the effects made of events or of the value grid: bias jumps, spikes, quantisation.
 //!
 //! - **Bias jumps**: on 1 s means y, the difference of the means of the W blocks after and before
-//!   each point, d[i] = mean(y[i..i+W]) − mean(y[i−W..i]), W = 60 s (at most an eighth of the
+//!   each point, d\[i] = mean(y[i..i+W]) − mean(y[i−W..i]), W = 60 s (at most an eighth of the
 //!   part). A jump of size s shows as a peak |d| ≈ |s|; the slow wander of the bias (flicker, rate
 //!   random walk) does not. Peaks above [`JUMP_SIGMAS`] robust σ of d (1.4826·MAD), at least W
 //!   apart, are the jumps.
-//! - **Spikes**: r[k] = x[k] − median(x[k−2..=k+2]); samples with |r| above [`SPIKE_SIGMAS`]
+//! - **Spikes**: r\[k] = x\[k] − median(x[k−2..=k+2]); samples with |r| above [`SPIKE_SIGMAS`]
 //!   robust σ of r that are the largest |r| within ±2 samples.
 //! - **Quantisation**: the values sit on a grid when there are few distinct ones (at most a
 //!   quarter of the samples) and at least 99.9 % of them are whole multiples of the smallest gap
