@@ -20,7 +20,7 @@ use super::gap::PartComparison;
 use super::model::{SimModel, simulate};
 use super::stats::StatLayout;
 use super::uncertainty::{Perturbation, perturbed};
-use crate::sim::rng::splitmix64;
+use crate::model::rng::splitmix64;
 
 /// The recording's side of a diagnosis: layouts and real statistics of both parts, and how to
 /// build the ensemble.
