@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use serde::Deserialize;
 
-use crate::model::cpso::CpsoConfig;
+use crate::model::cpso::{CpsoConfig, CpsoError};
 use crate::model::lssvm::CpsoLssvm;
 use crate::stream::ipc::{Delivery, IpcSettings, ServiceNames, WaitMode};
 use crate::stream::{
@@ -623,15 +623,6 @@ impl Config {
         if r.prototypes == 0 {
             return Err(ConfigError("retrain.prototypes must be at least 1".into()));
         }
-        if r.cpso_particles == 0 || r.cpso_candidates < r.cpso_particles {
-            return Err(ConfigError(format!(
-                "retrain.cpso_particles/retrain.cpso_candidates: need 1 <= particles <= candidates, got {} and {}",
-                r.cpso_particles, r.cpso_candidates
-            )));
-        }
-        if r.cpso_iterations == 0 {
-            return Err(ConfigError("retrain.cpso_iterations must be at least 1".into()));
-        }
         let cpso = CpsoConfig {
             candidates: r.cpso_candidates,
             particles: r.cpso_particles,
@@ -640,6 +631,12 @@ impl Config {
             threads: r.threads,
             ..CpsoConfig::default()
         };
+        cpso.validate().map_err(|(CpsoError::Config(m) | CpsoError::Bounds(m))| {
+            ConfigError(format!("retrain.cpso_particles/retrain.cpso_candidates: {m}"))
+        })?;
+        if r.cpso_iterations == 0 {
+            return Err(ConfigError("retrain.cpso_iterations must be at least 1".into()));
+        }
         Ok(CpsoLssvm {
             embedding: self.embedding().with_horizon(self.denoise.lag + 1),
             cpso,

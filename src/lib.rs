@@ -17,6 +17,8 @@
 //! - [`cli`]: the `gyrocomp` command-line driver.
 //! - [`daemon`]: `gyrocompd`, the iceoryx2 sidecar daemon (pipeline, retrainer, signals).
 
+#![warn(missing_docs)]
+
 pub mod cli;
 pub mod config;
 pub mod daemon;

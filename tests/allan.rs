@@ -7,6 +7,7 @@ use common::floats;
 use gyrocomp::diag::allan::{AllanDeviation, Taus, oadev};
 use gyrocomp::diag::noise_fit::{NoiseFit, Weighting, fit_allan, fit_noise_model};
 use gyrocomp::diag::noise_model::NoiseModel;
+use gyrocomp::model::rng::SplitMix64;
 use serde_json::Value;
 
 fn golden() -> Value {
@@ -113,37 +114,24 @@ fn fit_returns_zero_for_absent_terms() {
     }
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a small deterministic generator for the tests.
-struct SplitMix64(u64);
+/// Uniform in (0, 1] from the library's SplitMix64: 53 random bits, never 0 (safe for ln).
+fn uniform_nonzero(rng: &mut SplitMix64) -> f64 {
+    ((rng.next_u64() >> 11) + 1) as f64 / (1u64 << 53) as f64
+}
 
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in (0, 1]: 53 random bits, never 0 (safe for ln).
-    fn uniform(&mut self) -> f64 {
-        ((self.next_u64() >> 11) + 1) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Two independent standard normal values (Box–Muller).
-    fn normal_pair(&mut self) -> (f64, f64) {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        let r = (-2.0 * u1.ln()).sqrt();
-        let a = std::f64::consts::TAU * u2;
-        (r * a.cos(), r * a.sin())
-    }
+/// Two independent standard normal values (Box–Muller).
+fn normal_pair(rng: &mut SplitMix64) -> (f64, f64) {
+    let (u1, u2) = (uniform_nonzero(rng), uniform_nonzero(rng));
+    let r = (-2.0 * u1.ln()).sqrt();
+    let a = std::f64::consts::TAU * u2;
+    (r * a.cos(), r * a.sin())
 }
 
 fn white_noise(seed: u64, len: usize, std: f64) -> Vec<f64> {
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut x = Vec::with_capacity(len + 1);
     while x.len() < len {
-        let (a, b) = rng.normal_pair();
+        let (a, b) = normal_pair(&mut rng);
         x.extend([std * a, std * b]);
     }
     x.truncate(len);

@@ -3,34 +3,23 @@
 
 use gyrocomp::model::baselines::{Ar, BiasHold, LinearPsr, Mean, Persistence};
 use gyrocomp::model::metrics::Metrics;
+use gyrocomp::model::rng::SplitMix64;
 use gyrocomp::model::scaler::MinMaxScaler;
 use gyrocomp::model::{Fit, FitError, Predict, predict_from};
 use gyrocomp::stream::embed::Embedding;
 
-/// SplitMix64 with Box–Muller normals, for simulated series.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn normal(&mut self) -> f64 {
-        let u = 1.0 - self.next();
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * self.next()).cos()
-    }
+/// A standard normal value from two SplitMix64 uniforms (Box–Muller), for simulated series.
+fn normal(rng: &mut SplitMix64) -> f64 {
+    let u = 1.0 - rng.uniform();
+    (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * rng.uniform()).cos()
 }
 
 /// x[t] = c + a1·x[t−1] + a2·x[t−2] + σ·e[t], after a burn-in of 500 samples.
 fn ar2(n: usize, c: f64, a1: f64, a2: f64, sigma: f64, seed: u64) -> Vec<f64> {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut x = vec![0.0; n + 500];
     for t in 2..x.len() {
-        x[t] = c + a1 * x[t - 1] + a2 * x[t - 2] + sigma * rng.normal();
+        x[t] = c + a1 * x[t - 1] + a2 * x[t - 2] + sigma * normal(&mut rng);
     }
     x.split_off(500)
 }
@@ -127,8 +116,8 @@ fn linear_psr_is_exact_on_a_linear_recurrence() {
     // x[k+21] = c + w0·x[k] + w1·x[k+10] + w2·x[k+20], from random initial values.
     let e = Embedding::PAPER;
     let (c, w) = (0.05, [0.3, -0.2, 0.5]);
-    let mut rng = Rng(5);
-    let mut x: Vec<f64> = (0..21).map(|_| rng.next() - 0.5).collect();
+    let mut rng = SplitMix64::new(5);
+    let mut x: Vec<f64> = (0..21).map(|_| rng.uniform() - 0.5).collect();
     for k in 0..300 {
         x.push(c + w[0] * x[k] + w[1] * x[k + 10] + w[2] * x[k + 20]);
     }

@@ -3,22 +3,10 @@
 
 use gyrocomp::model::bp_ann::{BpAnn, OutputActivation, StopReason, ValSplit};
 use gyrocomp::model::metrics::Metrics;
+use gyrocomp::model::rng::SplitMix64;
 use gyrocomp::model::scaler::MinMaxScaler;
 use gyrocomp::model::{Fit, FitError, Predict, predict_from};
 use gyrocomp::stream::embed::Embedding;
-
-/// SplitMix64 uniform in [−1, 1).
-struct Rng(u64);
-
-impl Rng {
-    fn symmetric(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        2.0 * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 1.0
-    }
-}
 
 /// y = (sin 2x₁ + x₂x₃)/2, halved so that a tanh output can reach it.
 fn target(x: &[f64]) -> f64 {
@@ -26,7 +14,7 @@ fn target(x: &[f64]) -> f64 {
 }
 
 fn random_rows(n: usize, seed: u64) -> (Vec<f64>, Vec<f64>) {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let x: Vec<f64> = (0..3 * n).map(|_| rng.symmetric()).collect();
     let y = x.chunks(3).map(target).collect();
     (x, y)

@@ -1,6 +1,7 @@
 //! The IMU error simulator as a library: config files and presets, determinism, truth columns,
 //! each term against its theory, motion profiles.
 
+use gyrocomp::model::metrics::population_std_dev;
 use gyrocomp::sim::terms::{FLICKER_FLOOR, flicker_poles};
 use gyrocomp::sim::theory::{axis_adev, gauss_markov_avar_continuous};
 use gyrocomp::sim::{
@@ -40,11 +41,6 @@ fn oavar(x: &[f64], m: usize) -> f64 {
         sum += d * d;
     }
     sum / (2.0 * (m * m) as f64 * terms as f64)
-}
-
-fn std_dev(x: &[f64]) -> f64 {
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
-    (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
 }
 
 #[test]
@@ -234,7 +230,7 @@ fn temperature_trajectory_and_hysteresis() {
     cfg.temperature.noise_c = 0.1;
     let noisy = Generator::generate(&cfg, 0).unwrap();
     let diff: Vec<f64> = noisy.temp_c.iter().zip(&out.temp_c).map(|(a, b)| a - b).collect();
-    assert!((std_dev(&diff) - 0.1).abs() < 0.01);
+    assert!((population_std_dev(&diff).unwrap() - 0.1).abs() < 0.01);
     assert_eq!(noisy.axes[0].drift, out.axes[0].drift, "the bias follows the true temperature");
 }
 
@@ -363,8 +359,8 @@ fn paper_preset_has_the_papers_drift_level() {
     let mut raw = Vec::new();
     for seed in 0..10 {
         let out = Generator::generate(&cfg, seed).unwrap();
-        drift.push(std_dev(&out.axes[0].drift));
-        raw.push(std_dev(&out.axes[0].raw));
+        drift.push(population_std_dev(&out.axes[0].drift).unwrap());
+        raw.push(population_std_dev(&out.axes[0].raw).unwrap());
     }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     assert!((mean(&drift) - 0.0035).abs() < 0.0004, "drift std {}", mean(&drift));

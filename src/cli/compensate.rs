@@ -14,7 +14,7 @@ use super::input::load_config;
 use super::progress::Progress;
 use crate::io::{CompensatedCsvWriter, Recording};
 use crate::config::RateSetting;
-use crate::model::metrics::std_dev;
+use crate::model::metrics::sample_std_dev;
 use crate::stream::{STATUS_MOVING, STATUS_REJECTED, compensate_recording};
 
 /// Arguments of `gyrocomp compensate`.
@@ -123,8 +123,8 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
             .map(|a| AxisSummary {
                 column: rec.columns()[a].clone(),
                 static_samples: static_raw[a].len(),
-                std_raw: std_dev(&static_raw[a]),
-                std_compensated: std_dev(&static_comp[a]),
+                std_raw: sample_std_dev(&static_raw[a]),
+                std_compensated: sample_std_dev(&static_comp[a]),
             })
             .collect(),
         seconds: started.elapsed().as_secs_f64(),

@@ -134,8 +134,8 @@ pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
         threshold: report.threshold,
         rmse_vs_batch: window.map(|_| rmse(denoised, &batch)),
         rmse_vs_batch_steady: window.map(|w| rmse(&denoised[w.min(x.len())..], &batch[w.min(x.len())..])),
-        std_raw: std_dev(x),
-        std_denoised: std_dev(denoised),
+        std_raw: metrics::sample_std_dev(x).unwrap_or(0.0),
+        std_denoised: metrics::sample_std_dev(denoised).unwrap_or(0.0),
         seconds,
     };
     if let Some(path) = &args.output {
@@ -221,8 +221,4 @@ fn shift_variance(x: &[f64], batch: &[f64], config: &DenoiseConfig) -> Vec<f64> 
 
 fn rmse(a: &[f64], b: &[f64]) -> f64 {
     metrics::rmse(a, b).unwrap_or(0.0)
-}
-
-fn std_dev(x: &[f64]) -> f64 {
-    metrics::std_dev(x).unwrap_or(0.0)
 }

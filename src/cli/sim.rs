@@ -11,6 +11,7 @@ use tracing::info;
 
 use super::CliError;
 use crate::io::CsvColumnsWriter;
+use crate::model::metrics::population_std_dev;
 use crate::sim::{AXIS_NAMES, Generator, Preset, SimConfig, SimOutput};
 
 /// The built-in presets (documented in `gyrocomp::sim::presets`).
@@ -131,8 +132,8 @@ pub fn run(args: &SimArgs) -> Result<(), CliError> {
         rate_hz: config.rate_hz,
         duration_s: config.duration_s,
         seed,
-        std_raw_dps: out.axes.each_ref().map(|a| std_dev(&a.raw)),
-        std_drift_dps: out.axes.each_ref().map(|a| std_dev(&a.drift)),
+        std_raw_dps: out.axes.each_ref().map(|a| population_std_dev(&a.raw).unwrap_or(0.0)),
+        std_drift_dps: out.axes.each_ref().map(|a| population_std_dev(&a.drift).unwrap_or(0.0)),
         seconds: started.elapsed().as_secs_f64(),
     };
     if args.json {
@@ -148,12 +149,4 @@ pub fn run(args: &SimArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
-}
-
-fn std_dev(x: &[f64]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
-    (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / x.len() as f64).sqrt()
 }

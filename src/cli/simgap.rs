@@ -124,7 +124,7 @@ pub fn run(args: &SimgapArgs) -> Result<(), CliError> {
                     series.rate_hz
                 );
             }
-            Baseline::Given(config.axis_model(axis_of_column(&args.column)))
+            Baseline::Given(Box::new(config.axis_model(axis_of_column(&args.column))))
         }
         None => Baseline::Fitted,
     };
@@ -244,7 +244,7 @@ fn json_report<'a>(args: &'a SimgapArgs, d: &Diagnosis) -> JsonReport<'a> {
             "groups": p.score.groups,
         })
     };
-    let json = JsonReport {
+    JsonReport {
         gap_before: d.before.hold.score.gap,
         gap_after: d.after.hold.score.gap,
         r#where: where_entries(d.layout_hold.info(), &d.before.hold),
@@ -270,8 +270,7 @@ fn json_report<'a>(args: &'a SimgapArgs, d: &Diagnosis) -> JsonReport<'a> {
         min_share: args.min_share,
         ensembles_run: d.ensembles_run,
         gap_definition: "root of the mean over statistic groups of the mean z^2 in the group; z = (real - ensemble median) / ensemble sd",
-    };
-    json
+    }
 }
 
 /// The JSON document of `--json`; the first five keys are the interface of issue 8, in order.

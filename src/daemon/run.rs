@@ -27,7 +27,7 @@ use crate::stream::ipc::{
     CompPublisher, IpcDomain, IpcError, IpcNode, RawSample, RawSubscriber, StatusEvent, StatusPublisher,
 };
 use crate::stream::snapshot::Compat;
-use crate::stream::{BuildError, Pipeline, PipelineError, build_pipeline};
+use crate::stream::{BuildError, Pipeline, build_pipeline};
 
 /// Longest single wait for a raw sample, so that signals are seen promptly.
 const POLL: Duration = Duration::from_millis(50);
@@ -49,15 +49,11 @@ pub enum DaemonError {
         /// The reason.
         source: std::io::Error,
     },
-    /// The configuration is invalid (the message names the key).
-    #[error("{0}")]
-    Config(#[from] ConfigError),
-    /// The pipeline refused its settings.
-    #[error("pipeline: {0}")]
-    Pipeline(#[from] PipelineError),
-    /// The retrain thread could not be started.
-    #[error("cannot start the retrain thread: {0}")]
-    Trainer(std::io::Error),
+    /// The pipeline could not be built: an invalid configuration (the message names the key),
+    /// settings the pipeline refused, or a retrain thread that could not be started. Shown as the
+    /// [`BuildError`] itself.
+    #[error(transparent)]
+    Build(#[from] BuildError),
     /// The state directory could not be created or its writer thread started.
     #[error("state directory {path}: {source}")]
     State {
@@ -71,13 +67,11 @@ pub enum DaemonError {
     Ipc(#[from] IpcError),
 }
 
-impl From<BuildError> for DaemonError {
-    fn from(e: BuildError) -> Self {
-        match e {
-            BuildError::Config(e) => Self::Config(e),
-            BuildError::Pipeline(e) => Self::Pipeline(e),
-            BuildError::Trainer(e) => Self::Trainer(e),
-        }
+/// An invalid configuration met at start-up (parsing the file, or its `[ipc]` and `[state]`
+/// sections) is a [`BuildError::Config`], as in [`build_pipeline`].
+impl From<ConfigError> for DaemonError {
+    fn from(e: ConfigError) -> Self {
+        Self::Build(BuildError::Config(e))
     }
 }
 

@@ -2,7 +2,7 @@
 //! Welch power spectral density ([`crate::diag::psd`]) and the periodogram of the sim-to-real
 //! diagnosis.
 //!
-//! X[k] = Σ_{j=0}^{n−1} x[j]·e^(−2πi·jk/n) (the sign convention of `numpy.fft.fft`), for n a
+//! X\[k] = Σ_{j=0}^{n−1} x\[j]·e^(−2πi·jk/n) (the sign convention of `numpy.fft.fft`), for n a
 //! power of two: bit-reversal permutation, then log₂ n butterfly passes with precomputed twiddle
 //! factors (Cooley & Tukey 1965; Press et al., *Numerical Recipes*, 3rd ed., §12.2). O(n log n).
 

@@ -4,11 +4,11 @@
 //!
 //! - segments of L samples starting every L/2 samples, ⌊(N − L/2)/(L/2)⌋ of them;
 //! - each segment's mean removed, then multiplied by the periodic Hann window
-//!   w[j] = ½ − ½·cos(2πj/L);
-//! - P[k] = |FFT(w·x)[k]|² / (f_s·Σw²), doubled for 0 < k < L/2 (one-sided density), averaged over
+//!   w\[j] = ½ − ½·cos(2πj/L);
+//! - P\[k] = |FFT(w·x)\[k]|² / (f_s·Σw²), doubled for 0 < k < L/2 (one-sided density), averaged over
 //!   the segments.
 //!
-//! The unit is (input unit)²/Hz, e.g. (deg/s)²/Hz; Σ_k P[k]·f_s/L ≈ the variance of the series.
+//! The unit is (input unit)²/Hz, e.g. (deg/s)²/Hz; Σ_k P\[k]·f_s/L ≈ the variance of the series.
 //! `tests/goldens/psd.json` (tools/goldens/psd_goldens.py) holds scipy's result.
 
 use std::f64::consts::TAU;
@@ -85,10 +85,10 @@ impl Welch {
         for s in 0..segments {
             let seg = &x[s * step..s * step + l];
             let mean = seg.iter().sum::<f64>() / l as f64;
-            for j in 0..l {
-                self.re[j] = (seg[j] - mean) * self.window[j];
-                self.im[j] = 0.0;
+            for ((re, &v), &w) in self.re.iter_mut().zip(seg).zip(&self.window) {
+                *re = (v - mean) * w;
             }
+            self.im.fill(0.0);
             self.fft.forward(&mut self.re, &mut self.im);
             for (k, d) in density.iter_mut().enumerate() {
                 *d += self.re[k] * self.re[k] + self.im[k] * self.im[k];

@@ -10,7 +10,7 @@
 //! | `gyrocomp` | the configured `[drift]` estimator ([`build_pipeline`], the daemon's; default Kalman) | the configured `[motion]` detector (default statistical) |
 //! | `gyrocomp-flagged` | the same | the same, plus the file's `moving` column as the publisher's flag (an oracle: it says what the detector has to guess) |
 //! | `cpso-lssvm` | the paper's CPSO-LSSVM forecaster | the configured detector |
-//! | `persistence` | x̃[t] = the newest denoised sample | none: it sees the whole stream |
+//! | `persistence` | x̃\[t] = the newest denoised sample | none: it sees the whole stream |
 //! | `ar` | AR(p), order by AIC ≤ 20, refitted on the retrain schedule | none |
 //! | `persistence-gated`, `ar-gated` | the same models | the configured detector, as gyrocomp (what the detector alone is worth) |
 //!

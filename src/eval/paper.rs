@@ -10,7 +10,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use crate::model::metrics::{Metrics, std_dev};
+use crate::model::metrics::{Metrics, sample_std_dev};
 use crate::model::scaler::MinMaxScaler;
 use crate::stream::Embedding;
 use crate::wavelet::{DenoiseConfig, denoise_batch};
@@ -148,7 +148,7 @@ pub fn score(prepared: &Prepared, predictions: &[f64]) -> PaperScores {
     let drift = &prepared.denoised[start..];
     let raw_after: Vec<f64> = raw.iter().zip(&in_dps).map(|(r, p)| r - p).collect();
     let drift_after: Vec<f64> = drift.iter().zip(&in_dps).map(|(d, p)| d - p).collect();
-    let std = |x: &[f64]| std_dev(x).unwrap_or(0.0);
+    let std = |x: &[f64]| sample_std_dev(x).unwrap_or(0.0);
     PaperScores {
         mae_norm: m.mae,
         rmse_norm: m.rmse,
@@ -191,7 +191,7 @@ mod tests {
         assert_eq!((s.mae_norm, s.rmse_norm, s.are), (0.0, 0.0, 0.0));
         assert!(s.std_drift_after < 1e-15);
         let noise: Vec<f64> = p.raw[p.train_end..].iter().zip(&p.denoised[p.train_end..]).map(|(r, d)| r - d).collect();
-        assert!((s.std_raw_after - std_dev(&noise).unwrap()).abs() < 1e-15);
+        assert!((s.std_raw_after - sample_std_dev(&noise).unwrap()).abs() < 1e-15);
         assert!(s.std_drift_before > 0.0);
     }
 

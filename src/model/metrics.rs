@@ -1,5 +1,6 @@
-//! Prediction error indexes of paper §3 Step 5: MAE (Eq. 22), RMSE (Eq. 23), ARE (Eq. 24), and
-//! the standard deviation used for compensation (paper §4.3, Table 2).
+//! Prediction error indexes of paper §3 Step 5: MAE (Eq. 22), RMSE (Eq. 23), ARE (Eq. 24), the
+//! standard deviation used for compensation (paper §4.3, Table 2; [`sample_std_dev`], n − 1) and
+//! the population standard deviation ([`population_std_dev`], n), and quantiles.
 //!
 //! ARE: the paper writes `(1/n) Σ |ŷ_i − y_i| / y_i`. Dividing by a signed `y_i` lets terms of
 //! opposite sign cancel, so [`are`] divides by `|y_i|`. Even so ARE is ill-posed for a drift
@@ -72,16 +73,31 @@ pub fn are(pred: &[f64], actual: &[f64]) -> Option<f64> {
     Metrics::new(pred, actual).map(|m| m.are)
 }
 
-/// Sample standard deviation with the `n − 1` denominator (MATLAB's `std` default), as in
-/// paper Table 2 (drift before/after compensation). `None` for fewer than 2 values.
-pub fn std_dev(x: &[f64]) -> Option<f64> {
+/// Sum of squared deviations from the mean, `Σ (x_i − x̄)²` with `x̄ = (1/n) Σ x_i` (two passes),
+/// the numerator of both standard deviations below.
+fn sum_sq_dev(x: &[f64]) -> f64 {
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    x.iter().map(|v| (v - mean) * (v - mean)).sum()
+}
+
+/// Sample standard deviation with the `n − 1` denominator, `√(Σ (x_i − x̄)² / (n − 1))` (MATLAB's
+/// `std` default), as in paper Table 2 (drift before/after compensation). `None` for fewer than 2
+/// values.
+pub fn sample_std_dev(x: &[f64]) -> Option<f64> {
     if x.len() < 2 {
         return None;
     }
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    let ss: f64 = x.iter().map(|v| (v - mean) * (v - mean)).sum();
-    Some((ss / (n - 1.0)).sqrt())
+    Some((sum_sq_dev(x) / (x.len() as f64 - 1.0)).sqrt())
+}
+
+/// Population standard deviation with the `n` denominator, `√(Σ (x_i − x̄)² / n)` (numpy's
+/// `np.std` default), e.g. the spread of a simulated series (`gyrocomp sim`). `None` for an empty
+/// slice.
+pub fn population_std_dev(x: &[f64]) -> Option<f64> {
+    if x.is_empty() {
+        return None;
+    }
+    Some((sum_sq_dev(x) / x.len() as f64).sqrt())
 }
 
 /// The `q`-quantile of `x` (0 ≤ q ≤ 1), interpolating linearly between order statistics: with
@@ -135,11 +151,14 @@ mod tests {
     }
 
     #[test]
-    fn std_dev_uses_n_minus_one() {
-        // mean 5, squared deviations sum 32, n − 1 = 7
+    fn sample_std_dev_uses_n_minus_one_and_population_std_dev_n() {
+        // mean 5, squared deviations sum 32, n − 1 = 7, n = 8
         let x = [2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0];
-        assert!((std_dev(&x).unwrap() - (32.0f64 / 7.0).sqrt()).abs() < 1e-15);
-        assert_eq!(std_dev(&[1.0]), None);
+        assert!((sample_std_dev(&x).unwrap() - (32.0f64 / 7.0).sqrt()).abs() < 1e-15);
+        assert_eq!(sample_std_dev(&[1.0]), None);
+        assert_eq!(population_std_dev(&x), Some(2.0));
+        assert_eq!(population_std_dev(&[1.0]), Some(0.0));
+        assert_eq!(population_std_dev(&[]), None);
     }
 
     #[test]

@@ -1,11 +1,11 @@
 //! Random streams of the simulator.
 //!
 //! Every random term of every axis draws from its own stream: a `Xoshiro256PlusPlus` generator
-//! (rand_xoshiro, a documented, stable algorithm) seeded through SplitMix64 from the run's seed,
-//! the axis and the term. So the same seed gives the same numbers on every platform and version
-//! of this crate (Cargo.lock pins the generator crates), and switching one term on or off leaves
-//! the noise paths of all other terms unchanged: runs that differ by one term are common-random-
-//! number comparisons.
+//! (rand_xoshiro, a documented, stable algorithm) seeded through SplitMix64 (the crate's one
+//! [`crate::model::rng::splitmix64`]) from the run's seed, the axis and the term. So the same seed
+//! gives the same numbers on every platform and version of this crate (Cargo.lock pins the
+//! generator crates), and switching one term on or off leaves the noise paths of all other terms
+//! unchanged: runs that differ by one term are common-random-number comparisons.
 //!
 //! Normal deviates come from `rand_distr::StandardNormal` (ziggurat); uniform deviates are the top
 //! 53 bits of one 64-bit output.
@@ -13,6 +13,8 @@
 use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, StandardNormal};
 use rand_xoshiro::Xoshiro256PlusPlus;
+
+use crate::model::rng::splitmix64;
 
 /// Which term a stream feeds (part of the stream key; the numbers are fixed forever).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,14 +36,6 @@ pub enum StreamId {
     Motion = 7,
 }
 
-/// The SplitMix64 output function (Steele, Lea & Flood 2014), used to mix stream keys.
-pub fn splitmix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 /// One independent random stream.
 #[derive(Debug, Clone)]
 pub struct Stream {
@@ -55,7 +49,7 @@ impl Stream {
     }
 
     /// The `index`-th stream of `term` on `axis` (e.g. one per process of the flicker bank). The
-    /// key is chained through SplitMix64: seed, then axis, then term, then index.
+    /// key is chained through [`splitmix64`]: seed, then axis, then term, then index.
     pub fn indexed(seed: u64, axis: u64, term: StreamId, index: u64) -> Self {
         let mut key = splitmix64(seed);
         for part in [axis, term as u64, index] {

@@ -79,7 +79,7 @@ pub(crate) fn dwt_detail_point(x: &[f64], hi: &[f64], o: usize) -> f64 {
 }
 
 /// The interior detail `Σ_j hi[j]·x[last − j]` of the `hi.len()` samples ending at `x[last]`
-/// (needs `last ≥ hi.len() − 1`): bit-identical to [`dwt_point`]'s detail at any position whose
+/// (needs `last ≥ hi.len() − 1`): bit-identical to the detail [`dwt_into`] computes at any position whose
 /// taps end on that sample, so a streaming caller can compute it once per sample and reuse it
 /// while the window slides.
 #[inline]

@@ -15,7 +15,7 @@
 
 use serde::Serialize;
 
-use crate::model::metrics::{quantile_sorted, std_dev};
+use crate::model::metrics::{quantile_sorted, sample_std_dev};
 
 /// Lower and upper quantile of the band.
 pub const BAND: (f64, f64) = (0.025, 0.975);
@@ -43,7 +43,7 @@ impl Band {
             median: quantile_sorted(values, 0.5),
             lo: quantile_sorted(values, BAND.0),
             hi: quantile_sorted(values, BAND.1),
-            sd: std_dev(values).unwrap_or(0.0),
+            sd: sample_std_dev(values).unwrap_or(0.0),
         }
     }
 

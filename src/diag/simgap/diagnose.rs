@@ -55,8 +55,8 @@ impl Default for Settings {
 pub enum Baseline {
     /// The IEEE Std 952 terms fitted to the training part.
     Fitted,
-    /// A given simulator axis model (`--sim FILE.toml`).
-    Given(AxisConfig),
+    /// A given simulator axis model (`--sim FILE.toml`), boxed: it is far larger than `Fitted`.
+    Given(Box<AxisConfig>),
 }
 
 /// The recording to diagnose: one rate column, uniformly sampled, with its temperature if any.

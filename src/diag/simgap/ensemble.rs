@@ -20,7 +20,7 @@ use super::gap::PartComparison;
 use super::model::{SimModel, simulate};
 use super::stats::StatLayout;
 use super::uncertainty::{Perturbation, perturbed};
-use crate::sim::rng::splitmix64;
+use crate::model::rng::splitmix64;
 
 /// The recording's side of a diagnosis: layouts and real statistics of both parts, and how to
 /// build the ensemble.
@@ -83,7 +83,10 @@ pub fn member_seed(seed: u64, j: usize) -> u64 {
     splitmix64(seed ^ splitmix64(j as u64 + 1))
 }
 
-fn member(setup: &Setup<'_>, model: &SimModel, j: usize) -> Result<(Vec<f64>, Vec<f64>), SimgapError> {
+/// What one ensemble member gives: its statistics on the training part and on the hold-out part.
+type MemberResult = Result<(Vec<f64>, Vec<f64>), SimgapError>;
+
+fn member(setup: &Setup<'_>, model: &SimModel, j: usize) -> MemberResult {
     let own;
     let model = match setup.perturbations.get(j) {
         Some(delta) => {
@@ -102,7 +105,7 @@ fn member(setup: &Setup<'_>, model: &SimModel, j: usize) -> Result<(Vec<f64>, Ve
 pub fn evaluate(setup: &Setup<'_>, model: &SimModel) -> Result<Evaluation, SimgapError> {
     let m = setup.members;
     let threads = setup.threads.clamp(1, m);
-    let mut results: Vec<Option<Result<(Vec<f64>, Vec<f64>), SimgapError>>> = (0..m).map(|_| None).collect();
+    let mut results: Vec<Option<MemberResult>> = (0..m).map(|_| None).collect();
     if threads == 1 {
         for (j, r) in results.iter_mut().enumerate() {
             *r = Some(member(setup, model, j));

@@ -1,11 +1,11 @@
 //! Fits of the effects made of events or of the value grid: bias jumps, spikes, quantisation.
 //!
 //! - **Bias jumps**: on 1 s means y, the difference of the means of the W blocks after and before
-//!   each point, d[i] = mean(y[i..i+W]) − mean(y[i−W..i]), W = 60 s (at most an eighth of the
+//!   each point, d\[i] = mean(y[i..i+W]) − mean(y[i−W..i]), W = 60 s (at most an eighth of the
 //!   part). A jump of size s shows as a peak |d| ≈ |s|; the slow wander of the bias (flicker, rate
 //!   random walk) does not. Peaks above [`JUMP_SIGMAS`] robust σ of d (1.4826·MAD), at least W
 //!   apart, are the jumps.
-//! - **Spikes**: r[k] = x[k] − median(x[k−2..=k+2]); samples with |r| above [`SPIKE_SIGMAS`]
+//! - **Spikes**: r\[k] = x\[k] − median(x[k−2..=k+2]); samples with |r| above [`SPIKE_SIGMAS`]
 //!   robust σ of r that are the largest |r| within ±2 samples.
 //! - **Quantisation**: the values sit on a grid when there are few distinct ones (at most a
 //!   quarter of the samples) and at least 99.9 % of them are whole multiples of the smallest gap
@@ -123,7 +123,7 @@ fn median5_residual(x: &[f64]) -> Vec<f64> {
 pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
     let r = median5_residual(x);
     let sigma = mad_sigma(&r);
-    if !(sigma > 0.0) {
+    if sigma.is_nan() || sigma <= 0.0 {
         return Fitted::NotApplicable("constant series".into());
     }
     let limit = SPIKE_SIGMAS * sigma;
@@ -152,7 +152,7 @@ pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
 /// The grid step of the values of `x`, when they sit on one (module docs).
 pub fn detect_grid(x: &[f64]) -> Option<f64> {
     let scale = x.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
-    if x.len() < 16 || !(scale > 0.0) {
+    if x.len() < 16 || scale.is_nan() || scale <= 0.0 {
         return None;
     }
     let tol = 1e-9 * scale;

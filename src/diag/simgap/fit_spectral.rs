@@ -1,7 +1,7 @@
 //! Fit of a sinusoidal disturbance: the strongest spectral line of the training part.
 //!
 //! 1. The least-squares line is removed and the series Hann-windowed and zero-padded to a power
-//!    of two; its periodogram |X[k]|² ([`crate::diag::fft`]).
+//!    of two; its periodogram |X\[k]|² ([`crate::diag::fft`]).
 //! 2. The line is the bin with the largest ratio to the median of the 32 bins around it, among
 //!    frequencies with at least four cycles in the part (the slow wander of the bias is red, so the
 //!    largest *power* would always be the lowest bin).

@@ -85,7 +85,7 @@ pub fn temperature_slope(x: &[f64], temp_c: &[f64], rate_hz: f64) -> f64 {
 pub fn fit_temperature(x: &[f64], temp_c: &[f64], rate_hz: f64) -> Fitted {
     let temp = &temp_c[..x.len().min(temp_c.len())];
     let (lo, hi) = temp.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-    if !(hi - lo >= MIN_TEMPERATURE_RANGE_C) {
+    if (hi - lo).is_nan() || hi - lo < MIN_TEMPERATURE_RANGE_C {
         return Fitted::NotApplicable(format!(
             "temp_c varies by {:.3} °C on the training part (less than {MIN_TEMPERATURE_RANGE_C} °C)",
             (hi - lo).max(0.0)

@@ -28,7 +28,7 @@ use serde::Serialize;
 
 use super::band::{Band, bands};
 use super::stats::{Group, Scale, StatInfo};
-use crate::model::metrics::{quantile_sorted, std_dev};
+use crate::model::metrics::{quantile_sorted, sample_std_dev};
 
 /// Probability that the members' T stays below the threshold (one false alarm in 100).
 pub const NULL_LEVEL: f64 = 0.99;
@@ -103,7 +103,7 @@ impl Moments {
     fn of(x: &[f64]) -> Moments {
         // sd 0 for fewer than two values (the members do not vary).
         let mean = x.iter().sum::<f64>() / x.len() as f64;
-        Moments { mean, sd: std_dev(x).unwrap_or(0.0) }
+        Moments { mean, sd: sample_std_dev(x).unwrap_or(0.0) }
     }
 
     /// Moments of the Wilson–Hilferty transform v^(2/3) of root-mean-square scores v (see

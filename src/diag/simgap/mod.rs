@@ -15,7 +15,7 @@
 //! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
 //!   [`uncertainty`]: the noise terms' uncertainty carried into it.
 //! - [`greedy`]: acceptance, ranking and the greedy combination of effects.
-//! - [`diagnose`]: the whole diagnosis of one recording.
+//! - [`diagnose`](mod@diagnose): the whole diagnosis of one recording.
 //! - [`selftest`]: recordings with a known injected effect, and the confusion table.
 //!
 //! Pure numerics: nothing here reads or writes files.

@@ -4,7 +4,7 @@
 //! Most terms are the simulator's own ([`crate::sim::AxisConfig`], run through
 //! [`crate::sim::Generator`]); three are added to its output with the simulator's term types,
 //! because `AxisConfig` has no slot for them:
-//! - IEEE Std 952 angle quantisation Q as white *angle* noise: the rate error u[k] − u[k−1] with u
+//! - IEEE Std 952 angle quantisation Q as white *angle* noise: the rate error u\[k] − u[k−1] with u
 //!   white of σ = Q·f_s has Allan variance 3σ²/m² = 3Q²/τ² (Annex C), without putting the output
 //!   on a grid (the simulator's angle-mode quantiser would);
 //! - a Gauss–Markov process beside the flicker bias instability ([`crate::sim::terms::GaussMarkov`]);

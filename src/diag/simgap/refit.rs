@@ -21,7 +21,7 @@ use super::ensemble::member_seed;
 use super::model::simulate;
 use super::robust_allan::robust_oadev;
 use crate::diag::allan::AllanDeviation;
-use crate::sim::rng::splitmix64;
+use crate::model::rng::splitmix64;
 
 /// Simulated series of the bias correction.
 pub const CORRECTION_MEMBERS: usize = 8;

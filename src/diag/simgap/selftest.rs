@@ -36,7 +36,7 @@ use super::SimgapError;
 use super::diagnose::{Baseline, Recording, Settings, Verdict, diagnose};
 use super::effects::{EffectKind, EffectParams};
 use crate::model::rng::Rng;
-use crate::sim::rng::splitmix64;
+use crate::model::rng::splitmix64;
 use crate::sim::{
     AxisConfig, BiasInstability, Generator, Jumps, Preset, Quantization, QuantizationMode, SimConfig, Sinusoid, Spikes,
     TemperatureCoefficient, TemperatureConfig, TemperatureRamp, Warmup,

@@ -13,7 +13,7 @@
 //!   when the recording sits on a grid of step Δ, the grid coherence |mean(e^(2πi·x/Δ))| (1 on the
 //!   grid, ≈ N^(−1/2) off it); log10.
 //! - **Compensation**: the project's cheapest honest compensation figure, the persistence
-//!   predictor x̂[t+1] = d[t] on the batch-denoised series d (db4, 3 levels): its RMSE against d
+//!   predictor x̂[t+1] = d\[t] on the batch-denoised series d (db4, 3 levels): its RMSE against d
 //!   and against the raw series (the residual a user would be left with); log10.
 //! - **Bias trajectory**: the means of 10 equal blocks and of 5 blocks of growing length at the
 //!   start ([0, N/64), [N/64, N/32), … [N/8, N/4)), each minus the part's mean, deg/s (linear):

@@ -19,7 +19,7 @@ use super::SimgapError;
 use super::baseline::{NoiseTerms, fit_noise_terms};
 use super::ensemble::member_seed;
 use super::model::{SimModel, simulate};
-use crate::sim::rng::splitmix64;
+use crate::model::rng::splitmix64;
 
 /// Mixed into the seed so the bootstrap's series differ from the ensemble's.
 const BOOTSTRAP_SEED: u64 = 0x0B00_7577;

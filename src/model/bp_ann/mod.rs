@@ -9,14 +9,13 @@
 //!   validation share; no separate test share — the outer 80/20 split is the test), chosen at
 //!   random by default; training stops after 6 epochs without validation improvement
 //!   (`max_fail`) and keeps the best-validation weights.
-//! - Initialisation: Nguyen–Widrow (`initnw`), seeded SplitMix64; fully deterministic per seed.
+//! - Initialisation: Nguyen–Widrow (`initnw`), seeded [`SplitMix64`]; fully deterministic per seed.
 //!
 //! Inputs and targets are expected in normalised units (Eq. 21); MATLAB's own `mapminmax`
 //! pre-processing is not repeated.
 
 mod lm;
 mod net;
-mod splitmix;
 
 pub use net::OutputActivation;
 
@@ -25,10 +24,10 @@ use serde::{Deserialize, Serialize};
 use super::baselines::check_series;
 use super::baselines::linear_psr::check_embedding;
 use super::{Fit, FitError, Predict};
+use crate::model::rng::SplitMix64;
 use crate::stream::embed::Embedding;
 use lm::{LmSettings, Rows};
 use net::Layout;
-use splitmix::SplitMix64;
 
 /// How the validation rows are drawn from the training rows.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]

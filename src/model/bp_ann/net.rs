@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::splitmix::SplitMix64;
+use crate::model::rng::SplitMix64;
 
 /// Activation of the output neuron.
 ///

@@ -111,7 +111,32 @@ impl fmt::Display for CpsoError {
 
 impl std::error::Error for CpsoError {}
 
-fn validate(bounds: &[(f64, f64)], c: &CpsoConfig) -> Result<(), CpsoError> {
+impl CpsoConfig {
+    /// Checks the settings [`minimize`] needs: 1 ≤ N ≤ M (the swarm is the best N of the M chaotic
+    /// candidates, Eq. 11–12), 0 < μ ≤ 4 (the logistic map of Eq. 11 stays in [0, 1]), a positive
+    /// velocity clamp and finite c1, c2, ω_max, ω_min (Eq. 9, 14). The one CPSO parameter check:
+    /// [`minimize`] runs it, and so does the configuration file's `[retrain]` section
+    /// ([`crate::config::Config::cpso_lssvm`]).
+    pub fn validate(&self) -> Result<(), CpsoError> {
+        if self.particles == 0 || self.candidates < self.particles {
+            return Err(CpsoError::Config(format!(
+                "need 1 <= particles <= candidates, got {} and {}",
+                self.particles, self.candidates
+            )));
+        }
+        let finite =
+            [self.c1, self.c2, self.w_max, self.w_min, self.mu, self.velocity_fraction].iter().all(|v| v.is_finite());
+        if !finite || self.velocity_fraction <= 0.0 || !(self.mu > 0.0 && self.mu <= 4.0) {
+            return Err(CpsoError::Config(format!(
+                "need 0 < mu <= 4, velocity_fraction > 0 and finite factors; got {self:?}"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Checks the search box: at least one dimension, each with finite `lo < hi`.
+fn validate_bounds(bounds: &[(f64, f64)]) -> Result<(), CpsoError> {
     if bounds.is_empty() {
         return Err(CpsoError::Bounds("no dimensions".into()));
     }
@@ -119,17 +144,6 @@ fn validate(bounds: &[(f64, f64)], c: &CpsoConfig) -> Result<(), CpsoError> {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
             return Err(CpsoError::Bounds(format!("dimension {d}: [{lo}, {hi}]")));
         }
-    }
-    let finite = [c.c1, c.c2, c.w_max, c.w_min, c.mu, c.velocity_fraction].iter().all(|v| v.is_finite());
-    if !finite
-        || c.particles == 0
-        || c.candidates < c.particles
-        || c.velocity_fraction <= 0.0
-        || !(c.mu > 0.0 && c.mu <= 4.0)
-    {
-        return Err(CpsoError::Config(format!(
-            "need 1 <= particles <= candidates, 0 < mu <= 4, velocity_fraction > 0 and finite factors; got {c:?}"
-        )));
     }
     Ok(())
 }
@@ -141,7 +155,8 @@ pub fn minimize<F>(f: F, bounds: &[(f64, f64)], config: &CpsoConfig) -> Result<(
 where
     F: Fn(&[f64]) -> f64 + Sync,
 {
-    validate(bounds, config)?;
+    validate_bounds(bounds)?;
+    config.validate()?;
     let mut rng = Rng::new(config.seed);
     let dims = bounds.len();
     let vmax: Vec<f64> = bounds.iter().map(|&(lo, hi)| config.velocity_fraction * (hi - lo)).collect();

@@ -34,14 +34,6 @@ pub fn sq_dist_matrix(a: &[f64], b: &[f64], dim: usize) -> DMatrix<f64> {
     d
 }
 
-/// Applies the kernel to a matrix of squared distances: `out = exp(−d / σ²)` element-wise.
-pub fn rbf_from_sq_dist(d: &[f64], sigma2: f64, out: &mut [f64]) {
-    let s = -1.0 / sigma2;
-    for (o, &v) in out.iter_mut().zip(d) {
-        *o = (v * s).exp();
-    }
-}
-
 /// The LS-SVM system block `H = Ω + I/γ` (paper Eq. 7) for the rows of `x`, Ω_ij = K(x_i, x_j).
 /// Only the lower triangle (and diagonal) is filled: the Cholesky factorisation reads no more.
 pub fn kernel_plus_ridge(x: &[f64], dim: usize, sigma2: f64, gamma: f64) -> DMatrix<f64> {

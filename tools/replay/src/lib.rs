@@ -13,6 +13,8 @@
 //! answers are written with the same [`gyrocomp::io::CompensatedCsvWriter`] as `gyrocomp
 //! compensate`, so with deterministic retraining the two files are equal byte for byte.
 
+#![warn(missing_docs)]
+
 pub mod connect;
 pub mod embedded;
 pub mod stream;

@@ -6,7 +6,7 @@ use gyrocomp::eval::MotionRun;
 use gyrocomp::io::Recording;
 use gyrocomp::model::Fit;
 use gyrocomp::model::baselines::BiasHold;
-use gyrocomp::model::metrics::{quantile, rmse, std_dev};
+use gyrocomp::model::metrics::{quantile, rmse, sample_std_dev};
 use gyrocomp::stream::{STATUS_MOVING, STATUS_REJECTED};
 
 use crate::stream::ReplayResult;
@@ -85,7 +85,7 @@ impl Summary {
         let kept: Vec<usize> = (0..result.outputs.len())
             .filter(|&i| result.outputs[i].status & (STATUS_REJECTED | STATUS_MOVING) == 0)
             .collect();
-        let std = |x: Vec<f64>| std_dev(&x).unwrap_or(f64::NAN);
+        let std = |x: Vec<f64>| sample_std_dev(&x).unwrap_or(f64::NAN);
         let std_raw = std(kept.iter().map(|&i| raw[i]).collect());
         let std_compensated = std(kept.iter().map(|&i| result.outputs[i].rate_dps[0]).collect());
         let duration_s = result.duration.as_secs_f64();
