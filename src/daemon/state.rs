@@ -44,12 +44,20 @@ pub enum StateError {
     },
 }
 
-/// Writes `bytes` to `path` atomically: temporary file in the same directory, `fsync`, rename,
-/// `fsync` of the directory.
+/// Permissions of the snapshot file: read and write for the daemon's user only (like its
+/// iceoryx2 services); the model and buffers are nobody else's business.
+pub const SNAPSHOT_MODE: u32 = 0o600;
+
+/// Writes `bytes` to `path` atomically: temporary file (mode [`SNAPSHOT_MODE`]) in the same
+/// directory, `fsync`, rename, `fsync` of the directory.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let tmp = dir.join(TEMP_FILE);
-    let mut file = File::create(&tmp)?;
+    let mut file = std::fs::OpenOptions::new().write(true).create(true).truncate(true).mode(SNAPSHOT_MODE).open(&tmp)?;
+    // A temporary file left by an earlier build may have wider permissions: `mode` applies to
+    // new files only.
+    file.set_permissions(std::fs::Permissions::from_mode(SNAPSHOT_MODE))?;
     file.write_all(bytes)?;
     file.sync_all()?;
     drop(file);
@@ -170,6 +178,15 @@ mod tests {
         write_atomic(&path, b"first").unwrap();
         write_atomic(&path, b"second").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"second");
+        // Owner-only, also over a file (and a leftover temporary) that had wider permissions.
+        use std::os::unix::fs::PermissionsExt;
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&path), SNAPSHOT_MODE);
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o644)).unwrap();
+        std::fs::write(dir.path().join(TEMP_FILE), b"stale").unwrap();
+        std::fs::set_permissions(dir.path().join(TEMP_FILE), std::fs::Permissions::from_mode(0o666)).unwrap();
+        write_atomic(&path, b"third").unwrap();
+        assert_eq!((mode(&path), std::fs::read(&path).unwrap()), (SNAPSHOT_MODE, b"third".to_vec()));
         assert!(!dir.path().join(TEMP_FILE).exists());
         assert!(read_snapshot(&dir.path().join("none")).unwrap().is_none());
         let err = read_snapshot(&path).unwrap_err();

@@ -6,8 +6,12 @@
 //! [`IpcDomain::private`] configuration with its own prefix and root path is a private domain:
 //! tests running in parallel, and a test beside a running daemon, never collide.
 //!
-//! [`IpcDomain::global`] uses iceoryx2's own lookup: `config/iceoryx2.toml` in the working
-//! directory, then the user's and the system's config file, then the built-in defaults.
+//! [`IpcDomain::global`] looks the configuration up where iceoryx2 itself would —
+//! `config/iceoryx2.toml` in the working directory, then `$HOME/.config/iceoryx2/iceoryx2.toml`,
+//! then `/etc/iceoryx2/iceoryx2.toml` — and hands it to the node explicitly, with iceoryx2's
+//! built-in defaults when there is none (logged at INFO). iceoryx2's own lookup
+//! (`Config::global_config`) warns "No config file was loaded" on every such start, and
+//! operators alert on WARN; a file that exists but cannot be read still gets a warning.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -17,6 +21,18 @@ use iceoryx2::prelude::{FileName, Path as IoxPath, SemanticString};
 
 use super::error::{IpcError, IpcResult};
 
+/// Where iceoryx2 looks for its configuration, in its order (`iceoryx2::config::Config`'s
+/// lookup: project-local, user, system); the user's directory from `$HOME` (iceoryx2 reads the
+/// password database; the two agree unless `HOME` was changed).
+pub fn global_config_candidates() -> Vec<PathBuf> {
+    let mut paths = vec![PathBuf::from("config").join("iceoryx2.toml")];
+    if let Some(home) = std::env::var_os("HOME").filter(|h| !h.is_empty()) {
+        paths.push(PathBuf::from(home).join(".config").join("iceoryx2").join("iceoryx2.toml"));
+    }
+    paths.push(PathBuf::from("/etc").join("iceoryx2").join("iceoryx2.toml"));
+    paths
+}
+
 /// The iceoryx2 configuration a node is created with.
 #[derive(Debug, Clone)]
 pub struct IpcDomain {
@@ -25,9 +41,23 @@ pub struct IpcDomain {
 }
 
 impl IpcDomain {
-    /// The domain iceoryx2 picks by itself (see the module documentation).
+    /// The domain of the first iceoryx2 config file found, or iceoryx2's defaults (module
+    /// documentation).
     pub fn global() -> Self {
-        Self { config: Config::global_config().clone(), private_root: None }
+        for path in global_config_candidates() {
+            if !path.is_file() {
+                continue;
+            }
+            match Self::from_file(&path) {
+                Ok(domain) => {
+                    tracing::info!(path = %path.display(), "iceoryx2 configuration");
+                    return domain;
+                }
+                Err(error) => tracing::warn!(path = %path.display(), %error, "iceoryx2 config file not usable; trying the next"),
+            }
+        }
+        tracing::info!("no iceoryx2 config file found: iceoryx2's built-in defaults");
+        Self { config: Config::default(), private_root: None }
     }
 
     /// A domain from an iceoryx2 TOML config file.
