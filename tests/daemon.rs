@@ -3,6 +3,9 @@
 //! retraining raises `model_version` exactly where the schedule says; SIGHUP applies new motion
 //! thresholds without losing a sample; SIGTERM ends it with exit code 0 and a final status.
 
+#[path = "common/python.rs"]
+mod python;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
@@ -234,9 +237,7 @@ fn bad_config_is_refused_at_start_with_the_key_named() {
 
 #[test]
 fn python_client_through_the_daemon() {
-    let probe = Command::new("python3").args(["-c", "import iceoryx2"]).output();
-    if !matches!(&probe, Ok(o) if o.status.success()) {
-        eprintln!("SKIP python_client_through_the_daemon: the iceoryx2 Python wheel is not importable");
+    if !python::iceoryx2_wheel_or_skip("python_client_through_the_daemon") {
         return;
     }
     let mut daemon = Daemon::start("event");

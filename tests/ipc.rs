@@ -1,6 +1,9 @@
 //! The iceoryx2 layer: wire layout, round trips, backpressure, domain isolation, the Python client.
 //! Every test runs in its own private iceoryx2 domain (unique prefix and root path) and removes it.
 
+#[path = "common/python.rs"]
+mod python;
+
 use std::mem::offset_of;
 use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -306,11 +309,7 @@ fn private_domains_do_not_see_each_other() {
 
 #[test]
 fn python_client_round_trip() {
-    let probe = Command::new("python3").args(["-c", "import iceoryx2"]).output();
-    if !matches!(&probe, Ok(o) if o.status.success()) {
-        eprintln!(
-            "SKIP python_client_round_trip: the iceoryx2 Python wheel is not importable (pip install iceoryx2==0.10.0)"
-        );
+    if !python::iceoryx2_wheel_or_skip("python_client_round_trip") {
         return;
     }
     let domain = Domain::new("py");

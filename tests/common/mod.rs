@@ -48,14 +48,17 @@ pub fn assert_close(got: &[f64], want: &[f64], tol: f64, what: &str) {
     assert!(worst <= tol, "{what}: max abs difference {worst:e} > {tol:e}");
 }
 
-/// `../shared/data/real/FILE` beside the repository, or `None` after printing why the calling
-/// test skips.
+/// `../shared/data/real/FILE` beside the repository, or `None` after printing (uncaptured) why
+/// the calling test skips.
 pub fn real_recording(file: &str) -> Option<PathBuf> {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/real").join(file);
     if path.exists() {
         Some(path)
     } else {
-        eprintln!("SKIP: {} not found (the real recordings live outside the repository)", path.display());
+        // Straight to stderr, not through `eprintln!` (captured by the test harness): the skip
+        // shows in a plain `cargo test`.
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), "SKIP: {} not found (the real recordings live outside the repository)", path.display());
         None
     }
 }
