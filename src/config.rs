@@ -157,7 +157,7 @@ impl Default for PipelineSection {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DriftSection {
-    /// `kalman`, `cpso-lssvm` or `bias-hold`.
+    /// `kalman`, `cpso-lssvm`, `bias-hold` or `hybrid`.
     pub estimator: EstimatorKind,
     /// Kalman innovation gate: χ²(1) tail probability.
     pub innovation_gate: f64,

@@ -11,12 +11,13 @@ use serde_json::Value;
 
 mod common;
 
-const NAMES: [&str; 10] = [
+const NAMES: [&str; 11] = [
     "gyrocomp",
     "gyrocomp-flagged",
     "bias-hold",
     "last-static",
     "cpso-lssvm",
+    "hybrid",
     "persistence",
     "ar",
     "highpass",

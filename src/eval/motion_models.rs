@@ -10,6 +10,7 @@
 //! | `gyrocomp` | the configured `[drift]` estimator ([`build_pipeline`], the daemon's; default Kalman) | the configured `[motion]` detector (default statistical) |
 //! | `gyrocomp-flagged` | the same | the same, plus the file's `moving` column as the publisher's flag (an oracle: it says what the detector has to guess) |
 //! | `cpso-lssvm` | the paper's CPSO-LSSVM forecaster | the configured detector |
+//! | `hybrid` | the Kalman tracker, plus a CPSO-LSSVM forecast of its 10 s block means while moving | the configured detector |
 //! | `persistence` | x̃\[t] = the newest denoised sample | none: it sees the whole stream |
 //! | `ar` | AR(p), order by AIC ≤ 20, refitted on the retrain schedule | none |
 //! | `persistence-gated`, `ar-gated` | the same models | the configured detector, as gyrocomp (what the detector alone is worth) |
@@ -58,6 +59,9 @@ pub enum MotionModel {
     /// The pipeline with the `cpso-lssvm` estimator (the paper's method) behind the configured
     /// detector.
     CpsoLssvm,
+    /// The pipeline with the `hybrid` estimator (the Kalman tracker plus the paper's model as a
+    /// forecaster of the bias trajectory while moving) behind the configured detector.
+    Hybrid,
     /// Persistence of the denoised stream, no gate.
     Persistence,
     /// AR(p) on the denoised stream, no gate.
@@ -72,12 +76,13 @@ pub enum MotionModel {
 
 impl MotionModel {
     /// Every model, in table order.
-    pub const ALL: [Self; 10] = [
+    pub const ALL: [Self; 11] = [
         Self::Gyrocomp,
         Self::GyrocompFlagged,
         Self::BiasHold,
         Self::LastStatic,
         Self::CpsoLssvm,
+        Self::Hybrid,
         Self::Persistence,
         Self::Ar,
         Self::Highpass,
@@ -93,6 +98,7 @@ impl MotionModel {
             Self::BiasHold => "bias-hold",
             Self::LastStatic => "last-static",
             Self::CpsoLssvm => "cpso-lssvm",
+            Self::Hybrid => "hybrid",
             Self::Persistence => "persistence",
             Self::Ar => "ar",
             Self::Highpass => "highpass",
@@ -169,9 +175,10 @@ fn pipeline(model: MotionModel, config: &Config) -> Result<Pipeline, BuildError>
     }
     let mut p = match model {
         MotionModel::Gyrocomp | MotionModel::GyrocompFlagged => return build_pipeline(config),
-        MotionModel::CpsoLssvm => {
+        MotionModel::CpsoLssvm | MotionModel::Hybrid => {
             let mut c = config.clone();
-            c.drift.estimator = EstimatorKind::CpsoLssvm;
+            c.drift.estimator =
+                if model == MotionModel::Hybrid { EstimatorKind::Hybrid } else { EstimatorKind::CpsoLssvm };
             return build_pipeline(&c);
         }
         _ => Pipeline::new(settings)?,

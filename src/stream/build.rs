@@ -21,7 +21,7 @@ pub enum BuildError {
 }
 
 /// The pipeline of `config` ([`Config::pipeline`]); when its drift estimator takes models
-/// (`cpso-lssvm`), with the CPSO-LSSVM retrainer of `[retrain]` ([`Config::cpso_lssvm`], paper
+/// (`cpso-lssvm`, `hybrid`), with the CPSO-LSSVM retrainer of `[retrain]` ([`Config::cpso_lssvm`], paper
 /// §2.2) attached on its own thread.
 pub fn build_pipeline(config: &Config) -> Result<Pipeline, BuildError> {
     let settings = config.pipeline()?;
@@ -30,7 +30,13 @@ pub fn build_pipeline(config: &Config) -> Result<Pipeline, BuildError> {
     if !uses_models {
         return Ok(pipeline);
     }
-    let trainer = Trainer::spawn_niced(config.cpso_lssvm()?, config.retrain.nice).map_err(BuildError::Trainer)?;
+    // The trainer fits the horizon the estimator forecasts at (the denoiser's lag + 1 for
+    // `cpso-lssvm`, one block for `hybrid`).
+    let mut fit = config.cpso_lssvm()?;
+    if let Some(estimator) = pipeline.estimator(0) {
+        fit.embedding = fit.embedding.with_horizon(estimator.model_steps());
+    }
+    let trainer = Trainer::spawn_niced(fit, config.retrain.nice).map_err(BuildError::Trainer)?;
     pipeline.attach_trainer(trainer);
     Ok(pipeline)
 }

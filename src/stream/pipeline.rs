@@ -51,7 +51,9 @@ use super::detector::{
     Decision, DetectorCounters, DetectorInput, DetectorKind, MotionDetector, StatisticalConfig, StatisticalDetector,
     ThresholdDetector,
 };
-use super::drift::{DriftConfig, DriftEstimate, DriftEstimator, EstimatorKind, KalmanBias, ModelForecast, StartupHold};
+use super::drift::{
+    DriftConfig, DriftEstimate, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold,
+};
 use super::embed::Embedding;
 use super::input_check::{InputCheck, InputConfig, InputCounters};
 use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
@@ -233,6 +235,9 @@ impl Pipeline {
                     Box::new(KalmanBias::new(config.drift.innovation_gate, config.drift.temperature))
                 }
                 EstimatorKind::BiasHold => Box::new(StartupHold::new(config.drift.startup_s)),
+                EstimatorKind::Hybrid => {
+                    Box::new(HybridForecast::new(config.drift.innovation_gate, config.drift.temperature, history))
+                }
                 EstimatorKind::CpsoLssvm => Box::new(
                     ModelForecast::new(config.causal.clone(), history, config.bias_samples)
                         .map_err(|e| PipelineError::Config(e.to_string()))?,

@@ -13,7 +13,9 @@
 //! | `kalman` | scalar Kalman filter, bias as a random walk, Q and R from the unit's own Allan variance ([`KalmanBias`]) |
 //! | `cpso-lssvm` | the paper's method: db4 causal denoising, PSR, CPSO-tuned LS-SVM forecast retrained in the background (`ModelForecast`) |
 //! | `bias-hold` | the mean of the start-up static span, then held for ever ([`StartupHold`]) |
+//! | `hybrid` | the Kalman tracker while static; while moving, plus the change a CPSO-LSSVM model of the tracker's 10 s block means forecasts (`HybridForecast`) |
 
+mod hybrid;
 mod kalman;
 mod model_forecast;
 mod startup_hold;
@@ -24,6 +26,7 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
+pub(crate) use hybrid::HybridForecast;
 pub use kalman::{KalmanBias, KalmanCounters};
 pub(crate) use model_forecast::ModelForecast;
 pub use startup_hold::StartupHold;
@@ -131,11 +134,14 @@ pub enum EstimatorKind {
     CpsoLssvm,
     /// [`StartupHold`].
     BiasHold,
+    /// `HybridForecast`: the Kalman tracker, plus a CPSO-LSSVM forecast of the bias trajectory
+    /// while moving.
+    Hybrid,
 }
 
 impl EstimatorKind {
     /// Every estimator, in documentation order.
-    pub const ALL: [Self; 3] = [Self::Kalman, Self::CpsoLssvm, Self::BiasHold];
+    pub const ALL: [Self; 4] = [Self::Kalman, Self::CpsoLssvm, Self::BiasHold, Self::Hybrid];
 
     /// The name in the configuration.
     pub fn name(self) -> &'static str {
@@ -143,12 +149,13 @@ impl EstimatorKind {
             Self::Kalman => "kalman",
             Self::CpsoLssvm => "cpso-lssvm",
             Self::BiasHold => "bias-hold",
+            Self::Hybrid => "hybrid",
         }
     }
 
     /// Whether the estimator takes models from a background retrainer.
     pub fn uses_models(self) -> bool {
-        self == Self::CpsoLssvm
+        matches!(self, Self::CpsoLssvm | Self::Hybrid)
     }
 }
 
