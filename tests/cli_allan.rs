@@ -150,3 +150,54 @@ fn real_adis16405_matches_published_allan_deviation() {
     assert!((50.0..=200.0).contains(&tau[i]), "floor at tau {} s", tau[i]);
     assert!(close(adev[i], 0.0072, 0.10), "floor adev {} at {} s", adev[i], tau[i]);
 }
+
+/// The value of `key: value` in a YAML text written by `--format kalibr`.
+fn yaml_value(yaml: &str, key: &str) -> f64 {
+    let line = yaml.lines().find(|l| l.starts_with(&format!("{key}:"))).unwrap_or_else(|| panic!("no {key} in\n{yaml}"));
+    line[key.len() + 1..].trim().parse().unwrap_or_else(|e| panic!("{key}: {e} in {line:?}"))
+}
+
+#[test]
+fn kalibr_yaml_matches_an_independent_allantools_fit_and_the_true_terms() {
+    // tests/goldens/kalibr.json (tools/goldens/kalibr_goldens.py): the generator's parameters, and
+    // N and K from allantools.oadev plus a two-term least-squares fit, in rad units.
+    let golden: Value = serde_json::from_str(include_str!("goldens/kalibr.json")).unwrap();
+    let g = &golden["generator"];
+    let (mut state, samples) = (g["seed"].as_u64().unwrap(), g["samples"].as_u64().unwrap() as usize);
+    let (white, step, bias, fs) =
+        (g["white"].as_f64().unwrap(), g["step"].as_f64().unwrap(), g["bias"].as_f64().unwrap(), g["rate_hz"].as_f64().unwrap());
+    let mut draw = || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let mut walk = 0.0;
+    let x: Vec<f64> = (0..samples)
+        .map(|_| {
+            let w = white * draw();
+            walk += step * draw();
+            bias + w + walk
+        })
+        .collect();
+    let csv = write_csv(&x, fs);
+    let path = csv.path().to_str().unwrap();
+    let out = gyrocomp(&["allan", path, "--column", "gz_dps", "--format", "kalibr", "--topic", "/imu0"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let yaml = String::from_utf8(out.stdout).unwrap();
+    assert!(yaml.contains("\nrostopic: /imu0\n"), "{yaml}");
+    assert_eq!(yaml_value(&yaml, "update_rate"), fs);
+    for key in ["gyroscope_noise_density", "gyroscope_random_walk"] {
+        let ours = yaml_value(&yaml, key);
+        let reference = golden[key].as_f64().unwrap();
+        let truth = golden[format!("true_{key}")].as_f64().unwrap();
+        eprintln!("{key}: gyrocomp {ours:.4e}, allantools fit {reference:.4e}, true {truth:.4e}");
+        assert!((ours / reference - 1.0).abs() < 0.05, "{key}: {ours} vs the allantools fit {reference}");
+        assert!((ours / truth - 1.0).abs() < 0.10, "{key}: {ours} vs the true {truth}");
+    }
+    assert!(!yaml.contains("bound through the Allan minimum"), "{yaml}");
+    // The JSON report carries the same values; --json and --format json are one thing.
+    let json: Value = serde_json::from_slice(&gyrocomp(&["allan", path, "--column", "gz_dps", "--format", "json"]).stdout).unwrap();
+    assert_eq!(json["kalibr"]["gyroscope_noise_density"].as_f64().unwrap(), yaml_value(&yaml, "gyroscope_noise_density"));
+    let legacy: Value = serde_json::from_slice(&gyrocomp(&["allan", path, "--column", "gz_dps", "--json"]).stdout).unwrap();
+    assert_eq!(json, legacy);
+    assert!(!gyrocomp(&["allan", path, "--json", "--format", "text"]).status.success(), "--json conflicts with --format");
+}

@@ -1,5 +1,6 @@
 //! `gyrocomp allan`: overlapping Allan deviation of one rate column and the IEEE Std 952-1997
-//! (Annex C) noise-term fit, printed as a table or as JSON.
+//! (Annex C) noise-term fit, printed as a table, as JSON, or as the gyroscope keys of a Kalibr
+//! `imu.yaml` ([`crate::diag::kalibr`]).
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -9,6 +10,7 @@ use serde::Serialize;
 use super::CliError;
 use super::input::load_series;
 use crate::diag::allan::{AllanDeviation, Taus, oadev_with_max_m};
+use crate::diag::kalibr::KalibrGyro;
 use crate::diag::noise_fit::{NoiseFit, Weighting, fit_allan};
 use crate::diag::noise_model::{CustomaryNoise, NoiseModel};
 
@@ -31,6 +33,18 @@ pub enum FitWeights {
     Independent,
     /// n: overlapping terms per τ (nearly equal weights on an octave grid).
     Terms,
+}
+
+/// What `gyrocomp allan` prints (`--format`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum AllanFormat {
+    /// A table of τ, σ(τ) and the fitted terms.
+    Text,
+    /// JSON (the same as `--json`).
+    Json,
+    /// Kalibr `imu.yaml` gyroscope keys: `update_rate`, `gyroscope_noise_density` (N) and
+    /// `gyroscope_random_walk` (K), rad units.
+    Kalibr,
 }
 
 /// Arguments of `gyrocomp allan`.
@@ -56,8 +70,27 @@ pub struct AllanArgs {
     pub fit_weights: FitWeights,
     /// Print JSON: {"tau_s":[…],"adev":[…],"fit":{"q","n","b","k","r"},…} ("fit" is null when
     /// the Allan deviation is zero everywhere).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "format")]
     pub json: bool,
+    /// Output format: text (default), json, or kalibr (the gyroscope keys of a Kalibr imu.yaml,
+    /// from the fitted N and K in rad units; Kalibr takes one value for the three axes: run it
+    /// per axis and keep the largest).
+    #[arg(long, value_enum)]
+    pub format: Option<AllanFormat>,
+    /// With `--format kalibr`: the `rostopic` key to write.
+    #[arg(long)]
+    pub topic: Option<String>,
+}
+
+impl AllanArgs {
+    /// The format asked for (`--json` is `--format json`).
+    fn output_format(&self) -> AllanFormat {
+        match (self.format, self.json) {
+            (Some(f), _) => f,
+            (None, true) => AllanFormat::Json,
+            (None, false) => AllanFormat::Text,
+        }
+    }
 }
 
 /// Runs `gyrocomp allan`.
@@ -88,12 +121,20 @@ pub fn run(args: &AllanArgs) -> Result<(), CliError> {
         }
     };
     let mut out = std::io::stdout().lock();
-    if args.json {
-        let report = JsonReport::new(args, &allan, fit.as_ref());
-        serde_json::to_writer(&mut out, &report)?;
-        writeln!(out)?;
-    } else {
-        write_table(&mut out, args, &allan, fit.as_ref())?;
+    match args.output_format() {
+        AllanFormat::Json => {
+            let report = JsonReport::new(args, &allan, fit.as_ref());
+            serde_json::to_writer(&mut out, &report)?;
+            writeln!(out)?;
+        }
+        AllanFormat::Text => write_table(&mut out, args, &allan, fit.as_ref())?,
+        AllanFormat::Kalibr => {
+            let fit = fit.ok_or_else(|| {
+                format!("{}: column `{}`: no noise-term fit, so no Kalibr parameters", args.input.display(), args.column)
+            })?;
+            let source = format!("{} column {}", args.input.display(), args.column);
+            out.write_all(KalibrGyro::from_fit(&fit.model, &allan).to_yaml(&source, args.topic.as_deref()).as_bytes())?;
+        }
     }
     out.flush()?;
     Ok(())
@@ -110,6 +151,7 @@ struct JsonReport<'a> {
     adev_err: &'a [f64],
     fit_customary: Option<CustomaryNoise>,
     fit_info: Option<FitInfo>,
+    kalibr: Option<KalibrGyro>,
     column: &'a str,
     rate_hz: f64,
     samples: usize,
@@ -150,6 +192,7 @@ impl<'a> JsonReport<'a> {
                 points: f.points,
                 rms_relative_residual: f.rms_relative_residual,
             }),
+            kalibr: fit.map(|f| KalibrGyro::from_fit(&f.model, allan)),
             column: &args.column,
             rate_hz: allan.rate_hz,
             samples: allan.samples,
