@@ -10,12 +10,17 @@
 //! for a quote). A quoted field may not span lines: recordings are numeric, and a line count that
 //! is always right matters more here. (The `csv` crate was tried first; its record positions are
 //! off by one after blank lines and on CRLF files, so error messages named the wrong line.)
+//!
+//! The header also decides the dialect ([`Dialect`]): gyrocomp's own, or EuRoC / TUM-VI (ns
+//! timestamps, rad/s), whose values are converted to seconds and deg/s as they are read.
 
 use std::fmt;
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+
+pub use super::csv_dialect::Dialect;
 
 /// Accepted names of the time column, in order of preference (docs/design.md "CSV conventions").
 pub const TIME_COLUMN_NAMES: [&str; 3] = ["t_s", "t", "time"];
@@ -174,7 +179,11 @@ pub struct SampleReader<R: Read> {
     names: Vec<String>,
     time_name: String,
     time_idx: usize,
+    /// Factor from the time column's unit to seconds.
+    time_scale: f64,
     value_idx: Vec<usize>,
+    /// Factor from each value column's unit to gyrocomp's (deg/s).
+    value_scale: Vec<f64>,
     temp_idx: Option<usize>,
     values: Vec<f64>,
     previous_t: Option<f64>,
@@ -231,34 +240,32 @@ impl<R: Read> SampleReader<R> {
         let names: Vec<String> = (0..fields.len())
             .map(|i| String::from_utf8_lossy(fields.get(i).unwrap_or_default()).into_owned())
             .collect();
-        let find = |wanted: &str| names.iter().position(|n| n == wanted);
-        let (time_idx, time_name) =
-            TIME_COLUMN_NAMES.iter().find_map(|&n| find(n).map(|i| (i, n.to_owned()))).ok_or_else(|| {
-                header_err(CsvErrorKind::MissingColumn {
-                    wanted: TIME_COLUMN_NAMES.join("` or `"),
-                    available: names.clone(),
-                })
-            })?;
-        let value_idx = columns
+        let dialect = Dialect::of(&names);
+        let (time, time_name) = dialect.time(&names).ok_or_else(|| {
+            header_err(CsvErrorKind::MissingColumn { wanted: dialect.time_names(), available: names.clone() })
+        })?;
+        let resolved = columns
             .iter()
             .map(|&c| {
-                find(c).ok_or_else(|| {
+                dialect.column(&names, c).ok_or_else(|| {
                     header_err(CsvErrorKind::MissingColumn { wanted: c.to_owned(), available: names.clone() })
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let temp_idx = find(TEMP_COLUMN);
+        let temp_idx = names.iter().position(|n| n == TEMP_COLUMN);
         Ok(Self {
             path,
             reader,
             line_buf,
             line_no,
             fields,
-            values: vec![0.0; value_idx.len()],
+            values: vec![0.0; resolved.len()],
             names,
             time_name,
-            time_idx,
-            value_idx,
+            time_idx: time.index,
+            time_scale: time.scale,
+            value_idx: resolved.iter().map(|r| r.index).collect(),
+            value_scale: resolved.iter().map(|r| r.scale).collect(),
             temp_idx,
             previous_t: None,
             rows: 0,
@@ -317,7 +324,7 @@ impl<R: Read> SampleReader<R> {
             field: None,
             kind: CsvErrorKind::Malformed(msg.to_owned()),
         })?;
-        let t_s = self.field(line, self.time_idx, false)?;
+        let t_s = self.field(line, self.time_idx, false)? * self.time_scale;
         if self.options.require_increasing_time
             && let Some(previous) = self.previous_t
             && t_s <= previous
@@ -326,7 +333,7 @@ impl<R: Read> SampleReader<R> {
         }
         self.previous_t = Some(t_s);
         for k in 0..self.value_idx.len() {
-            self.values[k] = self.field(line, self.value_idx[k], self.options.allow_non_finite)?;
+            self.values[k] = self.field(line, self.value_idx[k], self.options.allow_non_finite)? * self.value_scale[k];
         }
         let temp_c = match self.temp_idx {
             Some(i) if self.fields.get(i).is_some_and(|f| !f.is_empty()) => Some(self.field(line, i, true)?),

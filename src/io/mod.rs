@@ -3,6 +3,7 @@
 //! deg/s, optional `temp_c`). Numerics never see a file: they receive slices.
 
 pub mod compensated_csv;
+pub mod csv_dialect;
 pub mod csv_read;
 pub mod csv_write;
 pub mod recording;
