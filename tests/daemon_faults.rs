@@ -12,17 +12,17 @@
 //!   publisher reopening anything. The restarted daemon finds the killed one's node dead and
 //!   cleans its stale resources (iceoryx2's dead-node cleanup) before it opens its ports.
 
+#[path = "common/daemon_proc.rs"]
+mod daemon_proc;
 #[path = "common/ins_child.rs"]
 mod ins_child;
 
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use gyrocomp::daemon::state::SNAPSHOT_FILE;
-use gyrocomp::stream::ipc::{
-    CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, STATUS_NO_MODEL, prime,
-};
+use daemon_proc::{DaemonProc, prime_until, sample};
+use gyrocomp::stream::ipc::{CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, STATUS_NO_MODEL};
 use gyrocomp::stream::snapshot::Snapshot;
 use ins_child::ChildProc;
 
@@ -84,73 +84,14 @@ impl Drop for Setup {
     }
 }
 
-/// A `gyrocompd` process; SIGKILLed on drop, its log printed when the test failed.
-struct Daemon {
-    child: Option<Child>,
-    log: PathBuf,
-}
-
-impl Daemon {
-    fn start(setup: &Setup, n: usize) -> Self {
-        let log = setup.dir.path().join(format!("gyrocompd-{n}.log"));
-        let child = Command::new(env!("CARGO_BIN_EXE_gyrocompd"))
-            .arg("--config")
-            .arg(&setup.config)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(std::fs::File::create(&log).unwrap())
-            .spawn()
-            .expect("start gyrocompd");
-        Self { child: Some(child), log }
-    }
-
-    fn kill(&mut self) {
-        let mut c = self.child.take().expect("running daemon");
-        c.kill().unwrap();
-        c.wait().unwrap();
-    }
-
-    fn alive(&mut self) -> bool {
-        self.child.as_mut().is_some_and(|c| c.try_wait().unwrap().is_none())
-    }
-
-    fn log_text(&self) -> String {
-        std::fs::read_to_string(&self.log).unwrap_or_default()
-    }
-
-    fn wait_log(&self, needle: &str, timeout: Duration) -> String {
-        let start = Instant::now();
-        loop {
-            let text = self.log_text();
-            if text.contains(needle) {
-                return text;
-            }
-            assert!(start.elapsed() < timeout, "`{needle}` not logged within {timeout:?}:\n{text}");
-            std::thread::sleep(Duration::from_millis(10));
-        }
-    }
-}
-
-impl Drop for Daemon {
-    fn drop(&mut self) {
-        if let Some(mut c) = self.child.take() {
-            let _ = c.kill();
-            let _ = c.wait();
-        }
-        if std::thread::panicking() {
-            eprintln!("--- {} ---\n{}", self.log.display(), self.log_text());
-        }
-    }
+/// Starts `gyrocompd` on the setup's configuration; its log is `gyrocompd-<n>.log`.
+fn start_daemon(setup: &Setup, n: usize) -> DaemonProc {
+    DaemonProc::start(&setup.config, setup.dir.path().join(format!("gyrocompd-{n}.log")))
 }
 
 fn client(domain: &IpcDomain) -> IpcNode {
     let delivery = Delivery::Lossless { give_up_after: Some(Duration::from_secs(5)) };
     IpcNode::new(domain, "fault_test", IpcSettings { delivery, ..IpcSettings::default() }).unwrap()
-}
-
-fn sample(seq: u64) -> RawSample {
-    let k = seq as f64;
-    RawSample::new(seq, seq * 10_000_000, [0.02 + 0.002 * (k * 0.05).sin(), -0.01 + 0.001 * (k * 0.02).cos(), 0.005])
 }
 
 /// Sends `seqs` and checks one answer per sample, in order; returns the last answer's
@@ -168,29 +109,6 @@ fn exchange(raw: &RawPublisher, comp: &CompSubscriber, seqs: std::ops::Range<u64
     last
 }
 
-/// Primes again and again (100 ms each) until the (re)started daemon answers; returns the answer
-/// and the next free seq. A seq is used only when a subscriber exists to take the sample, so on a
-/// first start every seq below the returned one reached the daemon (its sample count is exact).
-fn prime_until(
-    raw: &RawPublisher,
-    comp: &CompSubscriber,
-    mut seq: u64,
-    timeout: Duration,
-) -> (gyrocomp::stream::ipc::CompSample, u64) {
-    let start = Instant::now();
-    loop {
-        assert!(start.elapsed() < timeout, "no answer within {timeout:?}");
-        if !raw.wait_for_subscriber(Duration::from_millis(100)) {
-            continue;
-        }
-        let got = prime(raw, comp, sample(seq), Duration::from_millis(100));
-        seq += 1;
-        if let Ok(a) = got {
-            return (a, seq);
-        }
-    }
-}
-
 fn count(text: &str, needle: &str) -> usize {
     text.matches(needle).count()
 }
@@ -198,7 +116,7 @@ fn count(text: &str, needle: &str) -> usize {
 #[test]
 fn sigkill_during_a_retrain_then_restart_resumes_from_the_snapshot() {
     let setup = Setup::new("faulta", true);
-    let mut daemon = Daemon::start(&setup, 1);
+    let mut daemon = start_daemon(&setup, 1);
     let node = client(&setup.domain);
     let raw = node.raw_publisher().unwrap();
     let comp = node.comp_subscriber().unwrap();
@@ -215,14 +133,14 @@ fn sigkill_during_a_retrain_then_restart_resumes_from_the_snapshot() {
     // The sample that completes 2·EVERY makes the second request; kill right after its answer,
     // while the heavy CPSO search runs.
     exchange(&raw, &comp, seq..2 * EVERY);
-    daemon.kill();
+    daemon.kill9();
     let log = daemon.log_text();
     assert_eq!(count(&log, "retrain finished"), 1, "the second retrain must still have been running:\n{log}");
     assert_eq!(setup.snapshot().unwrap().model_version(), 1);
 
     // Restart: the very first answer already uses the snapshot's model.
     let restarted_at = Instant::now();
-    let daemon = Daemon::start(&setup, 2);
+    let daemon = start_daemon(&setup, 2);
     let (first, seq) = prime_until(&raw, &comp, 2 * EVERY + 100, Duration::from_secs(30));
     let resume = restarted_at.elapsed();
     eprintln!("restart to first compensated answer: {:.0} ms", resume.as_secs_f64() * 1e3);
@@ -248,7 +166,7 @@ fn corrupt_snapshot_is_reported_and_ignored() {
     let setup = Setup::new("faultc", false);
     std::fs::create_dir_all(&setup.state).unwrap();
     std::fs::write(setup.state.join(SNAPSHOT_FILE), b"GYROSNAP\x01\0\0\0garbage").unwrap();
-    let daemon = Daemon::start(&setup, 1);
+    let daemon = start_daemon(&setup, 1);
     let node = client(&setup.domain);
     let raw = node.raw_publisher().unwrap();
     let comp = node.comp_subscriber().unwrap();
@@ -262,7 +180,7 @@ fn corrupt_snapshot_is_reported_and_ignored() {
 #[test]
 fn killed_publisher_is_replaced_while_the_daemon_keeps_serving() {
     let setup = Setup::new("faultb", false);
-    let mut daemon = Daemon::start(&setup, 1);
+    let mut daemon = start_daemon(&setup, 1);
     let mut first = ChildProc::start("publisher", &setup.domain, &[], &[]);
     first.wait_for("progress", Duration::from_secs(30), |p| p.get("answered") >= 200);
     first.kill();
@@ -285,11 +203,11 @@ fn killed_publisher_is_replaced_while_the_daemon_keeps_serving() {
 #[test]
 fn daemon_restart_while_the_publisher_keeps_going_and_stale_nodes_are_cleaned() {
     let setup = Setup::new("faultd", false);
-    let mut daemon = Daemon::start(&setup, 1);
+    let mut daemon = start_daemon(&setup, 1);
     let publisher = ChildProc::start("publisher", &setup.domain, &[], &[]);
     publisher.wait_for("progress", Duration::from_secs(30), |p| p.get("answered") >= 200);
 
-    daemon.kill();
+    daemon.kill9();
     let killed_at = publisher.last("progress").unwrap();
     let census = IpcNode::dead_nodes(&setup.domain).unwrap();
     assert!(census.dead >= 1, "the killed daemon's node is detected as dead: {census:?}");
@@ -299,7 +217,7 @@ fn daemon_restart_while_the_publisher_keeps_going_and_stale_nodes_are_cleaned() 
     let during = publisher.last("progress").unwrap();
     assert!(during.get("sent") >= killed_at.get("sent") + 100, "{} -> {}", killed_at.line, during.line);
 
-    let mut daemon = Daemon::start(&setup, 2);
+    let mut daemon = start_daemon(&setup, 2);
     let log = daemon.wait_log("stale iceoryx2 nodes cleaned", Duration::from_secs(20));
     let line = log.lines().find(|l| l.contains("stale iceoryx2 nodes cleaned")).unwrap();
     assert!(line.contains("dead_after=0") && !line.contains("dead_before=0"), "{line}");

@@ -5,6 +5,8 @@ It publishes `RawSample`s (a static gyro: constant bias plus white noise) on `gy
 notifies the event service of the same name after each one, and reads `CompSample`s from
 `gyrocomp/compensated`. Every raw sample must come back exactly once with the same `seq`; the
 script checks that and exits non-zero when something was lost or arrived out of order.
+The raw service takes one publisher (one INS per daemon): while another client publishes, the
+script says so and exits with code 3.
 
 Needs the iceoryx2 Python wheel of the same version as the daemon:
 
@@ -108,10 +110,29 @@ def open_stream(node, name, payload, buffer):
         .enable_safe_overflow(False)
         .subscriber_max_buffer_size(buffer)
         .history_size(0)
+        # One publisher per stream service, as the Rust side creates them: one daemon per
+        # service prefix (compensated), one INS client per daemon (raw).
+        .max_publishers(1)
         .open_or_create()
     )
     event = node.service_builder(iox2.ServiceName.new(name)).event().open_or_create()
     return service, event
+
+
+def create_raw_publisher(node, raw_service):
+    """The raw service's one publisher (lossless), or None while another client holds it. A
+    client that was killed keeps its port until its dead node is cleaned: clean, then retry once."""
+    def create():
+        return raw_service.publisher_builder().backpressure_strategy(
+            iox2.BackpressureStrategy.RetryUntilDelivered).create()
+    try:
+        return create()
+    except iox2.PublisherCreateError:
+        node.try_cleanup_dead_nodes()
+    try:
+        return create()
+    except iox2.PublisherCreateError:
+        return None
 
 
 def main():
@@ -129,9 +150,12 @@ def main():
     # Subscribe before publishing so no answer is missed; lossless publishing (backpressure).
     subscriber = comp_service.subscriber_builder().buffer_size(args.buffer).create()
     listener = comp_event.listener_builder().create()
-    publisher = (
-        raw_service.publisher_builder().backpressure_strategy(iox2.BackpressureStrategy.RetryUntilDelivered).create()
-    )
+    publisher = create_raw_publisher(node, raw_service)
+    if publisher is None:
+        print(f"error: the raw service `{args.service_prefix}/raw` already has its publisher: another INS client "
+              "streams to this gyrocompd (one client per service prefix; give each IMU its own daemon)",
+              file=sys.stderr)
+        return 3
     notifier = raw_event.notifier_builder().create()
 
     # A sample sent before the daemon subscribed is lost (history 0): wait for a subscriber.

@@ -5,11 +5,16 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use gyrocomp::daemon::{Daemon, Signals, logging, run::load_config};
+use gyrocomp::daemon::{Daemon, DaemonError, Signals, logging, run::load_config};
+
+/// Exit code when another gyrocompd already serves the service prefix or state directory.
+const ALREADY_RUNNING: u8 = 3;
 
 /// gyrocompd: compensates MEMS gyro drift for an INS over iceoryx2 shared memory.
 /// SIGTERM/SIGINT: answer the samples already received, publish a final status, exit 0.
 /// SIGHUP: reload the config file (motion/input thresholds and retrain schedule apply at once).
+/// Exit codes: 0 stopped by a signal, 2 could not start, 3 another gyrocompd already serves this
+/// service prefix or state directory.
 #[derive(Debug, Parser)]
 #[command(name = "gyrocompd", version, about)]
 struct Args {
@@ -35,7 +40,10 @@ fn main() -> ExitCode {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
             tracing::error!(error = %e, "gyrocompd could not start");
-            fail(&e)
+            let code = fail(&e);
+            // A distinct code for "another instance runs", so that a supervisor or script can
+            // tell it from a broken configuration (docs/usage.md "Exit codes").
+            if matches!(e, DaemonError::AlreadyRunning { .. }) { ExitCode::from(ALREADY_RUNNING) } else { code }
         }
     }
 }

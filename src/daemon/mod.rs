@@ -6,10 +6,12 @@
 //! - [`signals`]: SIGTERM/SIGINT (stop) and SIGHUP (reload) as atomic flags.
 //! - [`logging`]: the `[log]` section → a `tracing` subscriber.
 //! - [`reload`]: applying a reloaded configuration to a running pipeline.
+//! - [`instance_lock`]: the state directory's lock (one daemon per state directory).
 //! - [`state`]: the model snapshot file (atomic writes on a writer thread, loading at start).
 //! - [`run`]: start-up and the loop.
 
 pub mod convert;
+pub mod instance_lock;
 pub mod logging;
 pub mod reload;
 pub mod run;

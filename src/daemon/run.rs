@@ -18,6 +18,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use super::instance_lock::{InstanceLock, LockError};
 use super::convert::{LoopCounters, comp_from_output, input_from_raw, status_sample};
 use super::reload;
 use super::signals::Signals;
@@ -62,6 +63,18 @@ pub enum DaemonError {
         /// The reason.
         source: std::io::Error,
     },
+    /// Another daemon already serves this service prefix (it holds the compensated service's one
+    /// publisher) or uses this state directory (it holds its lock); `detail` names it.
+    #[error(
+        "gyrocompd is already running for service prefix `{prefix}`: {detail}; stop that one first, or give this \
+         one its own [ipc] service_prefix and [state] dir"
+    )]
+    AlreadyRunning {
+        /// The service prefix this daemon was to serve.
+        prefix: String,
+        /// Which check refused it and the running daemon's pid or iceoryx2 node.
+        detail: String,
+    },
     /// The iceoryx2 services or ports could not be opened.
     #[error(transparent)]
     Ipc(#[from] IpcError),
@@ -103,6 +116,35 @@ fn warm_start(pipeline: &mut Pipeline, path: &Path) {
             Err(e) => tracing::warn!(%file, error = %e, "model snapshot ignored; starting without a model"),
         },
         Err(e) => tracing::warn!(error = %e, "model snapshot ignored; starting without a model"),
+    }
+}
+
+/// Takes the state directory's instance lock; held by another process, it is refused as
+/// [`DaemonError::AlreadyRunning`].
+fn lock_state_dir(dir: &Path, prefix: &str) -> Result<InstanceLock, DaemonError> {
+    match InstanceLock::acquire(dir, prefix) {
+        Ok(lock) => {
+            tracing::debug!(file = %lock.path().display(), "state directory locked");
+            Ok(lock)
+        }
+        Err(e @ LockError::Held { .. }) => Err(DaemonError::AlreadyRunning { prefix: prefix.into(), detail: e.to_string() }),
+        Err(LockError::Io { path, source }) => Err(DaemonError::State { path, source }),
+    }
+}
+
+/// A raw service created by a peer with room for several publishers lets a second INS client
+/// interleave its samples with the first one's (gyrocomp's own clients refuse to, others may
+/// not): said once at start.
+fn warn_if_shared_raw(node: &IpcNode, raw: &str) {
+    match node.stream_publisher_limit(raw) {
+        Ok(limit) if limit > crate::stream::ipc::STREAM_MAX_PUBLISHERS => tracing::warn!(
+            service = raw,
+            max_publishers = limit,
+            "the raw service allows several publishers (a peer created it so); a second INS client's samples would \
+             interleave with the first one's: recreate it with max_publishers = 1"
+        ),
+        Ok(_) => {}
+        Err(e) => tracing::debug!(error = %e, "publisher limit of the raw service unknown"),
     }
 }
 
@@ -164,10 +206,14 @@ impl Daemon {
         let settings = self.config.ipc_settings()?;
         let mut pipeline = build_pipeline(&self.config)?;
         let compat = Compat::of(pipeline.config());
+        let prefix = self.config.ipc.service_prefix.clone();
+        // Held until `run` returns (the kernel releases it however the process ends).
+        let mut _instance_lock = None;
         let snapshots = match self.config.state_dir()? {
             Some(dir) => {
                 let state_err = |source| DaemonError::State { path: dir.clone(), source };
                 std::fs::create_dir_all(&dir).map_err(state_err)?;
+                _instance_lock = Some(lock_state_dir(&dir, &prefix)?);
                 let path = dir.join(SNAPSHOT_FILE);
                 warm_start(&mut pipeline, &path);
                 Some(SnapshotWriter::spawn(path).map_err(state_err)?)
@@ -186,11 +232,18 @@ impl Daemon {
             inaccessible = after.inaccessible,
             "stale iceoryx2 nodes cleaned"
         );
+        // The compensated publisher first: a second daemon is refused before it subscribes to
+        // (and takes samples from) the running one's raw stream.
+        let comp = node.comp_publisher().map_err(|e| match e {
+            IpcError::PublisherTaken { .. } => DaemonError::AlreadyRunning { prefix: prefix.clone(), detail: e.to_string() },
+            e => e.into(),
+        })?;
         let raw = node.raw_subscriber()?;
+        warn_if_shared_raw(&node, &settings.names.raw);
         let reported_version = pipeline.model_version();
         let mut worker = Worker {
             pipeline,
-            comp: node.comp_publisher()?,
+            comp,
             status: node.status_publisher()?,
             node,
             snapshots,

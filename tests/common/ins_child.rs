@@ -10,6 +10,10 @@
 //! - `probe`: creates a node, then tries each port of an existing daemon's services (raw
 //!   publisher, compensated and status subscribers) and, when both stream ports opened, one
 //!   round trip; prints `probe node=… raw_publisher=ok|refused … answered=ok|refused errors=…`.
+//! - `stalled`: a client that stops reading: subscribes to the compensated service (buffer
+//!   `GC_BUFFER`, default 2048), prints `subscribed`, receives until it got an answer and none is
+//!   waiting (so it is attached and its buffer is empty), prints `stalled received=… last_seq=…`
+//!   and then never receives again, alive until killed.
 //!
 //! Every line the child says starts with [`MARK`] and a keyword and holds `key=value` fields,
 //! parsed by [`Progress`] (the test harness prints its own text before the first one).
@@ -186,6 +190,7 @@ pub fn entry() {
     match mode.as_str() {
         "publisher" => publisher(&domain),
         "probe" => probe(&domain),
+        "stalled" => stalled(&domain),
         other => panic!("child: unknown mode {other}"),
     }
 }
@@ -315,4 +320,27 @@ fn probe(domain: &IpcDomain) {
         word(answered),
         errors.join("|")
     ));
+}
+
+fn stalled(domain: &IpcDomain) {
+    let buffer = std::env::var("GC_BUFFER").ok().and_then(|v| v.parse().ok()).unwrap_or(2048);
+    let settings = IpcSettings { subscriber_buffer: buffer, ..IpcSettings::default() };
+    let node = IpcNode::new(domain, "stalled_reader", settings).expect("child node");
+    let comp = node.comp_subscriber().expect("compensated subscriber");
+    say("subscribed");
+    let (mut received, mut last_seq) = (0u64, 0u64);
+    loop {
+        match comp.recv_timeout(Duration::from_millis(10)).expect("receive") {
+            Some(a) => {
+                received += 1;
+                last_seq = a.seq;
+            }
+            None if received > 0 => break,
+            None => {}
+        }
+    }
+    say(&format!("stalled received={received} last_seq={last_seq}"));
+    loop {
+        std::thread::sleep(Duration::from_secs(1));
+    }
 }

@@ -16,6 +16,15 @@ pub enum IpcError {
     /// A name or setting was refused before reaching iceoryx2.
     #[error("iceoryx2 setting: {0}")]
     Setting(String),
+    /// The stream service already has its one publisher (see [`super::holders`]): another
+    /// daemon on `compensated`, another INS client on `raw`.
+    #[error("iceoryx2: `{service}` already has its publisher (a stream service allows one): held by {}", super::holders::describe(.holders))]
+    PublisherTaken {
+        /// The service.
+        service: String,
+        /// Who holds the publisher, as far as the node listing tells.
+        holders: Vec<super::holders::PublisherHolder>,
+    },
     /// No peer showed up or answered in time.
     #[error("iceoryx2 peer: {0}")]
     NoPeer(String),

@@ -5,6 +5,7 @@
 //! - [`settings`]: service names, subscriber buffer, [`WaitMode`], [`Delivery`].
 //! - [`domain`]: the default iceoryx2 domain or a private one (own prefix and root path).
 //! - [`node`]: [`IpcNode`], which creates the ports ([`RawSubscriber`], [`CompPublisher`], …).
+//! - [`holders`]: the stream services' single publisher, and naming who holds it.
 //! - [`client`]: [`prime`], the start-up handshake a lossless client does before streaming.
 //! - [`echo`]: a pass-through responder (tests, benches, client development).
 
@@ -12,6 +13,7 @@ pub mod client;
 pub mod domain;
 pub mod echo;
 pub mod error;
+pub mod holders;
 pub mod node;
 pub mod receiver;
 pub mod sender;
@@ -23,6 +25,7 @@ pub use client::prime;
 pub use domain::IpcDomain;
 pub use echo::run_echo;
 pub use error::{IpcError, IpcResult};
+pub use holders::{PublisherHolder, STREAM_MAX_PUBLISHERS};
 pub use node::{
     CompPublisher, CompSubscriber, IpcNode, NodeCensus, RawPublisher, RawSubscriber, StatusPublisher, StatusSubscriber,
 };

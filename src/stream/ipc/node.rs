@@ -1,10 +1,11 @@
 //! An iceoryx2 node in a domain, and the gyrocomp ports it creates.
 
 use iceoryx2::node::{Node, NodeBuilder, NodeState};
-use iceoryx2::prelude::{CallbackProgression, NodeName, SignalHandlingMode, ipc};
+use iceoryx2::prelude::{CallbackProgression, NodeName, SignalHandlingMode, ZeroCopySend, ipc};
 
 use super::domain::IpcDomain;
 use super::error::{IpcError, IpcResult};
+use super::holders::{STREAM_MAX_PUBLISHERS, publisher_holders};
 use super::receiver::Receiver;
 use super::sender::Sender;
 use super::services::{Qos, STATUS_BUFFER, open_pair};
@@ -104,10 +105,11 @@ impl IpcNode {
         Receiver::new(pair, self.settings.subscriber_buffer, self.settings.wait_mode)
     }
 
-    /// Publishes on the compensated service (daemon output).
+    /// Publishes on the compensated service (daemon output). The service has one publisher
+    /// ([`super::holders`]): while another daemon serves the same service prefix this fails with
+    /// [`IpcError::PublisherTaken`] naming it.
     pub fn comp_publisher(&self) -> IpcResult<CompPublisher> {
-        let pair = open_pair::<CompSample>(&self.node, &self.settings.names.compensated, self.stream())?;
-        Sender::new(pair, self.settings.delivery, self.settings.notify)
+        self.stream_sender(&self.settings.names.compensated)
     }
 
     /// Publishes on the status service (never waits for readers: the service overwrites).
@@ -116,10 +118,43 @@ impl IpcNode {
         Sender::new(pair, Delivery::DropNewest, self.settings.notify)
     }
 
-    /// Publishes on the raw service (client side).
+    /// Publishes on the raw service (client side). The service has one publisher
+    /// ([`super::holders`]): while another client streams to the same daemon this fails with
+    /// [`IpcError::PublisherTaken`] naming it.
     pub fn raw_publisher(&self) -> IpcResult<RawPublisher> {
-        let pair = open_pair::<RawSample>(&self.node, &self.settings.names.raw, self.stream())?;
-        Sender::new(pair, self.settings.delivery, self.settings.notify)
+        self.stream_sender(&self.settings.names.raw)
+    }
+
+    /// How many publishers the stream service `name` allows (1 when gyrocomp created it; a peer
+    /// that created it first may have allowed more).
+    pub fn stream_publisher_limit(&self, name: &str) -> IpcResult<usize> {
+        let pair = open_pair::<RawSample>(&self.node, name, self.stream())?;
+        use iceoryx2::prelude::PortFactory as _;
+        Ok(pair.data.static_config().max_publishers())
+    }
+
+    /// The one publisher of a stream service. When the service already has one, dead nodes are
+    /// cleaned (a killed client or daemon keeps its port until then) and creating is tried once
+    /// more; if it still has one, the error names its holder. A service a peer created with
+    /// room for more publishers is held to one all the same: a publisher that finds another one
+    /// beside it is dropped again with the same error.
+    fn stream_sender<T: std::fmt::Debug + ZeroCopySend + Copy + 'static>(&self, name: &str) -> IpcResult<Sender<T>> {
+        let open = || Sender::new(open_pair::<T>(&self.node, name, self.stream())?, self.settings.delivery, self.settings.notify);
+        let mut sender = open();
+        if matches!(sender, Err(IpcError::PublisherTaken { .. })) && self.cleanup_dead_nodes().0 > 0 {
+            sender = open();
+        }
+        let taken = |holders| IpcError::PublisherTaken { service: name.to_owned(), holders };
+        match sender {
+            Err(IpcError::PublisherTaken { .. }) => {
+                let pair = open_pair::<T>(&self.node, name, self.stream())?;
+                Err(taken(publisher_holders(&self.node, &pair.data, None)))
+            }
+            Ok(s) if s.publisher_count() > STREAM_MAX_PUBLISHERS => {
+                Err(taken(publisher_holders(&self.node, s.port_factory(), Some(self.node.id().value()))))
+            }
+            other => other,
+        }
     }
 
     /// Subscribes to the compensated service (client side).

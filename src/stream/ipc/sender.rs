@@ -4,7 +4,7 @@ use std::fmt::Debug;
 use std::time::{Duration, Instant};
 
 use iceoryx2::port::notifier::Notifier;
-use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::publisher::{Publisher, PublisherCreateError};
 use iceoryx2::port::{BackpressureAction, BackpressureInfo};
 use iceoryx2::prelude::PortFactory as _;
 use iceoryx2::prelude::{BackpressureStrategy, ZeroCopySend, ipc};
@@ -41,7 +41,12 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Sender<T> {
                 }),
             Delivery::DropNewest => builder.backpressure_strategy(BackpressureStrategy::DiscardData),
         };
-        let publisher = builder.create().map_err(|e| IpcError::iox("create publisher", &pair.name, e))?;
+        let publisher = builder.create().map_err(|e| match e {
+            PublisherCreateError::ExceedsMaxSupportedPublishers => {
+                IpcError::PublisherTaken { service: pair.name.clone(), holders: Vec::new() }
+            }
+            e => IpcError::iox("create publisher", &pair.name, e),
+        })?;
         let notifier =
             pair.event.notifier_builder().create().map_err(|e| IpcError::iox("create notifier", &pair.name, e))?;
         Ok(Self { name: pair.name, publisher, notifier, notify_each, service: pair.data })
@@ -78,6 +83,15 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Sender<T> {
     pub fn update_connections(&self) -> IpcResult<()> {
         use iceoryx2::port::update_connections::UpdateConnections;
         self.publisher.update_connections().map_err(|e| IpcError::iox("update connections", &self.name, e))
+    }
+
+    /// How many publishers the service has now (any process, this one included).
+    pub fn publisher_count(&self) -> usize {
+        self.service.dynamic_config().number_of_publishers()
+    }
+
+    pub(crate) fn port_factory(&self) -> &PortFactory<ipc::Service, T, ()> {
+        &self.service
     }
 
     /// How many subscribers the service has now (any process).

@@ -6,7 +6,8 @@
 //! Quality of service (iceoryx2 0.10.0):
 //! - `gyrocomp/raw` and `gyrocomp/compensated`: `enable_safe_overflow(false)` (a full subscriber
 //!   buffer is never overwritten; the publisher's [`super::Delivery`] decides between waiting and
-//!   dropping), `subscriber_max_buffer_size(subscriber_buffer)`, history 0.
+//!   dropping), `subscriber_max_buffer_size(subscriber_buffer)`, history 0, and
+//!   `max_publishers(1)` ([`super::holders`]: one daemon per service prefix, one INS per daemon).
 //! - `gyrocomp/status`: safe overflow on (a slow status reader loses the oldest reports, the daemon
 //!   never waits for it), history 1 (a late subscriber gets the latest report), buffer
 //!   [`STATUS_BUFFER`].
@@ -60,7 +61,11 @@ pub(crate) fn open_pair<T: Debug + ZeroCopySend + 'static>(
     let builder = node.service_builder(&sname).publish_subscribe::<T>();
     let builder = match qos {
         Qos::Stream { buffer } => {
-            builder.enable_safe_overflow(false).subscriber_max_buffer_size(buffer.max(1)).history_size(0)
+            builder
+                .enable_safe_overflow(false)
+                .subscriber_max_buffer_size(buffer.max(1))
+                .history_size(0)
+                .max_publishers(super::holders::STREAM_MAX_PUBLISHERS)
         }
         Qos::Reports => builder.enable_safe_overflow(true).subscriber_max_buffer_size(STATUS_BUFFER).history_size(1),
     };
