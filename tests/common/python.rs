@@ -10,7 +10,13 @@ use std::process::Command;
 /// `eprintln!`, which the test harness captures: the line shows in a plain `cargo test`) and
 /// returns false.
 pub fn iceoryx2_wheel_or_skip(test: &str) -> bool {
-    let probe = Command::new("python3").args(["-c", "import iceoryx2"]).output();
+    module_or_skip(test, "iceoryx2", "the iceoryx2 Python wheel", "pip install iceoryx2==0.10.0")
+}
+
+/// Whether `python3 -c "import MODULE"` works; otherwise as [`iceoryx2_wheel_or_skip`]: a panic
+/// under `CI=true` (where .ci/run installs `what`), else a SKIP line with `hint`, and false.
+pub fn module_or_skip(test: &str, module: &str, what: &str, hint: &str) -> bool {
+    let probe = Command::new("python3").args(["-c", &format!("import {module}")]).output();
     if matches!(&probe, Ok(o) if o.status.success()) {
         return true;
     }
@@ -20,11 +26,8 @@ pub fn iceoryx2_wheel_or_skip(test: &str) -> bool {
     };
     assert!(
         std::env::var("CI").as_deref() != Ok("true"),
-        "{test}: CI=true but the iceoryx2 Python wheel is not importable ({why}); .ci/run installs iceoryx2==0.10.0"
+        "{test}: CI=true but {what} is not importable ({why}); .ci/run installs it"
     );
-    let _ = writeln!(
-        std::io::stderr(),
-        "SKIP {test}: the iceoryx2 Python wheel is not importable ({why}; pip install iceoryx2==0.10.0)"
-    );
+    let _ = writeln!(std::io::stderr(), "SKIP {test}: {what} is not importable ({why}; {hint})");
     false
 }

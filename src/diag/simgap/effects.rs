@@ -4,7 +4,7 @@
 //!
 //! | effect | fitted on the training part | in the simulation |
 //! |---|---|---|
-//! | `warmup` | A·e^(−t/T): T on a log grid (duration/300 … duration/3), A and an offset by least squares on 1 s means | `warmup` |
+//! | `warmup` | A·e^(−t/T): T on a log grid (duration/300 … duration), A and an offset by least squares on 1 s means | `warmup` |
 //! | `temperature` | slope of 1 s means of the rate on 1 s means of `temp_c` | bias ∝ recorded `temp_c` |
 //! | `ramp` | least-squares slope | `ramp_deg_h2` |
 //! | `sinusoid` | strongest line of the Hann periodogram against its local median, frequency refined, amplitude and phase by least squares | `sinusoids` |

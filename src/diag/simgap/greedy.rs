@@ -24,7 +24,9 @@
 //! accepted; add it, refit, and repeat with the remaining effects (only those that lowered the mean
 //! gap on their own) while the model still leaves a significant gap, up to a limit on the number
 //! of effects. Whether the result *explains* the gap is decided on the hold-out part
-//! ([`super::diagnose::Verdict`]).
+//! ([`super::diagnose::Verdict`]); when a significant gap is left, the kept effects still *partly*
+//! explain it if they remove at least [`PARTIAL_SHARE`] of the excess gap² on every significant
+//! part ([`removes_most`]), so a dominant cause is named with its residual reported as such.
 
 use super::SimgapError;
 use super::effects::EffectKind;
@@ -33,6 +35,19 @@ use super::gap::PartComparison;
 
 /// Level of the test against an effect's own null: 1 − 0.01/8, Bonferroni over the eight effects.
 pub const OWN_NULL_LEVEL: f64 = 1.0 - 0.01 / 8.0;
+
+/// Share of the excess gap² that the kept effects must remove on every significant part of the
+/// reference for a partial explanation ([`removes_most`]).
+pub const PARTIAL_SHARE: f64 = 0.8;
+
+/// Whether `after` removes at least [`PARTIAL_SHARE`] of the excess gap² (gap² − null median²)
+/// of `reference` on each part where the reference shows a significant gap (and it shows one):
+/// the test of a partial explanation ([`super::diagnose::Verdict::PartlyExplained`]).
+pub fn removes_most(reference: &Evaluation, after: &Evaluation) -> bool {
+    let parts = [(&reference.train, &after.train), (&reference.hold, &after.hold)];
+    reference.significant()
+        && parts.iter().all(|(r, a)| !r.significant || part_share(r, a).is_some_and(|s| s >= PARTIAL_SHARE))
+}
 
 /// How an evaluation compares with a reference.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -178,5 +193,21 @@ mod tests {
         assert_eq!(explained.chosen, vec![EffectKind::Warmup]);
         let useless = [(EffectKind::Ramp, &loud)];
         assert!(combine(&loud, &useless, &[], 0.25, 3, never).unwrap().chosen.is_empty());
+    }
+
+    /// A partial explanation needs a significant reference and most of its excess gap² removed:
+    /// a far-out statistic brought most of the way back counts, one left as it was does not, and
+    /// nothing counts against a reference without a significant gap.
+    #[test]
+    fn removes_most_needs_most_of_the_excess_removed() {
+        let quiet = evaluation(vec![0.05, -0.1, 0.0]);
+        let loud = evaluation(vec![0.05, -0.1, 8.0]);
+        let residual = evaluation(vec![0.05, -0.1, 1.5]);
+        assert!(residual.significant(), "the residual must still be significant for the test to bite");
+        assert!(removes_most(&loud, &residual));
+        assert!(removes_most(&loud, &quiet));
+        assert!(!removes_most(&loud, &evaluation(vec![0.05, -0.1, 6.0])));
+        assert!(!removes_most(&loud, &loud));
+        assert!(!removes_most(&quiet, &quiet));
     }
 }

@@ -1,0 +1,92 @@
+//! `gyrocomp simgap` on cases of the independent generator (tools/simgap/independent_cases.py,
+//! numpy, written apart from src/diag/simgap; issue 16): a few REPORT-range seeds (1–999; the
+//! generator's tuning range is 1000–1999), short 10 Hz recordings, diagnosed through the CLI as a
+//! user would. Needs python3 with numpy: without it the test is skipped with a SKIP line, and
+//! under `CI=true` (where .ci/run installs numpy) it fails instead.
+//!
+//! Asserted: pure-IEEE recordings (the floor alone) get "no significant gap"; and (ignored by
+//! default, heavy) on the report set of docs/evaluation.md "Independent cases" the classes named
+//! right there stay at their measured counts minus a margin.
+
+#[allow(dead_code)] // its iceoryx2 probe is not used here
+#[path = "common/python.rs"]
+mod python;
+
+use std::path::Path;
+use std::process::Command;
+
+use serde_json::Value;
+
+/// Whether python3 can import numpy (a SKIP line otherwise, a panic under `CI=true`).
+fn numpy_or_skip(test: &str) -> bool {
+    python::module_or_skip(test, "numpy", "numpy", "pip install numpy")
+}
+
+/// Runs the generator with `args` into `dir`; returns the manifest's cases.
+fn generate(dir: &Path, args: &[&str]) -> Vec<Value> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/simgap/independent_cases.py");
+    let out = Command::new("python3").arg(script).arg(dir).args(args).output().expect("run python3");
+    assert!(out.status.success(), "generator: {}", String::from_utf8_lossy(&out.stderr));
+    let manifest: Value = serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["seed_range"], "report");
+    manifest["cases"].as_array().unwrap().clone()
+}
+
+/// What the diagnosis names first (tools/simgap/score.py's rule), with `extra` arguments.
+fn outcome(dir: &Path, case: &Value, extra: &[&str]) -> String {
+    let path = dir.join(case["file"].as_str().unwrap());
+    let out = Command::new(env!("CARGO_BIN_EXE_gyrocomp"))
+        .args(["simgap", "--real", path.to_str().unwrap(), "--json"])
+        .args(extra)
+        .output()
+        .expect("run gyrocomp");
+    assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let verdict = doc["verdict"].as_str().unwrap();
+    let named = doc["chosen"].get(0).and_then(Value::as_str);
+    match (verdict, named) {
+        ("explained" | "partly_explained", Some(k)) => k.to_owned(),
+        ("no_significant_gap", _) => "none".to_owned(),
+        _ => "unexplained".to_owned(),
+    }
+}
+
+/// Two pure-IEEE recordings (floor only; report seeds 1–2, 3,000 s at 10 Hz): no significant gap.
+#[test]
+fn pure_ieee_recordings_show_no_significant_gap() {
+    if !numpy_or_skip("pure_ieee_recordings_show_no_significant_gap") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["--first-seed", "1", "--per-class", "2", "--classes", "none", "--durations", "3000,3000"];
+    for case in &generate(dir.path(), &args) {
+        let got = outcome(dir.path(), case, &["--ensemble", "24", "--threads", "2"]);
+        assert_eq!(got, "none", "seed {} on floor {}", case["seed"], case["floor"]);
+    }
+}
+
+/// The report set of docs/evaluation.md ("Independent cases": `independent_cases.py DIR
+/// --first-seed 1 --per-class 3`, default diagnosis settings), on the classes it gets mostly right
+/// (sinusoid 3/3, quantization 3/3, spikes 2/3 measured) and the pure-IEEE control (3/3): each
+/// class at least its measured count minus one, the control exactly. Heavy (12 diagnoses of 3,000–5,000 s), so ignored by default:
+/// `cargo test --release --test simgap_independent -- --ignored`.
+#[test]
+#[ignore = "12 diagnoses; run with --release -- --ignored"]
+fn report_seeds_keep_the_measured_confusion() {
+    if !numpy_or_skip("report_seeds_keep_the_measured_confusion") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cases = generate(dir.path(), &["--first-seed", "1", "--per-class", "3"]);
+    for (class, least) in MEASURED {
+        let right = cases
+            .iter()
+            .filter(|c| c["klass"] == *class)
+            .filter(|c| outcome(dir.path(), c, &["--threads", "2"]) == c["expected"].as_str().unwrap())
+            .count();
+        assert!(right >= *least, "{class}: {right} of 3 right, at least {least} expected");
+    }
+}
+
+/// (class, least right of 3): the count measured on the report set minus one; the control exact.
+const MEASURED: &[(&str, usize)] = &[("sinusoid", 2), ("quantization", 2), ("spikes", 1), ("none", 3)];

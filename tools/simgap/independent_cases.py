@@ -1,0 +1,344 @@
+#!/usr/bin/env python3
+"""Independent case generator for `gyrocomp simgap` (issue 16, item 1).
+
+Written apart from src/diag/simgap (numpy only, its own parametrisation, its own noise floors), so
+the diagnosis is measured on recordings it was not built around. Every case is one CSV recording
+in the project's format (`t_s,gx_dps,temp_c`, as `gyrocomp sim` writes) plus an entry in
+`manifest.json` saying what was injected: effect class, sub-class, magnitude (and its bin), time
+scale, seed, noise floor, rate and duration.
+
+Noise floors (IEEE Std 952 terms, deg/s units; `s` below is the floor's scale: 0.1, 1 or 10):
+
+    white N    = s * 0.03 deg/s/sqrt(Hz)          (angle random walk)
+    GM bank    = s * sigma_i, tau_i: (0.004, 8 s), (0.005, 90 s), (0.004, 900 s)
+                 (a bank of first-order Gauss-Markov processes; its Allan deviation is a flat-ish
+                 bias instability B ~ s * 0.003 deg/s from ~10 s to ~1000 s)
+    RRW K      = s * 4e-5 deg/s/sqrt(s)          (rate random walk)
+    bias       = uniform(-1, 1) deg/s constant
+
+`quiet` is s = 0.1, `nominal` s = 1, `noisy` s = 10; `nominal_flat` has no GM bank (white + RRW
+only). Effect magnitudes scale with s, so the magnitude bins are signal-to-floor bins.
+
+Effect classes (expected first named effect in brackets; the magnitude factor m is drawn
+log-uniform in the class's range; its bin is the third of the log-range it falls in):
+
+    warmup        A e^(-t/T), A = ±m * s, m in [0.03, 0.3]; T log-uniform 60 s .. duration/4
+                  (sub-class long_warmup when T >= 900 s)                         [warmup]
+    temperature   c * (temp - mean), temp = room drift + slow sine + steps, c = ±m*s/°C,
+                  m in [0.003, 0.03]                                               [temperature]
+    ramp          linear change of ±m * s over the run, m in [0.03, 0.5]          [ramp]
+    sinusoid      m * s * sin(2 pi f t + phi), m in [0.005, 0.05], f log-uniform
+                  10/duration .. min(1, rate/4) Hz                                 [sinusoid]
+    bias_jumps    few_large: Poisson 1-6 /h, each N(0, (m s)^2), m in [0.02, 0.1];
+                  many_small: 20-100 /h of m in [0.004, 0.02] (a fraction of the per-sample
+                  noise, several sigma in 100 s means)                            [bias_jumps]
+    spikes        Poisson 5-100 /h single-sample outliers of ±m*s, m in [0.6, 3]   [spikes]
+    quantization  output rounded to a grid of m*s deg/s, m in [0.02, 0.2]          [quantization]
+    gauss_markov  sigma = m * s, m in [0.006, 0.04], correlation time log-uniform 5-300 s
+                  (sub-class gm_1min when 30-120 s)                               [gauss_markov]
+    dominant      a dominant effect (warmup, sinusoid or ramp at the top third of its range)
+                  plus a small second effect of another kind (bottom of its range); the dominant
+                  one must be named first                                          [its name]
+    none          the floor only (pure IEEE terms)                                 [none]
+    outside       an effect outside the catalogue: a chirp 0.01 -> 0.2 Hz, a noise burst (white
+                  noise x2-4 over 10-30 % of the run) or a triangle wave of the bias  [outside]
+
+Seeds: the TUNING range is 1000-1999, the REPORT range is 1-999. Tune only on tuning seeds;
+report figures only on report seeds, measured after tuning stopped. A case's seed is
+`first_seed + index`, where cases are numbered class by class; the per-case generator is
+numpy's PCG64 seeded with (seed, 16).
+
+Usage:
+    independent_cases.py OUT_DIR [--first-seed 1000] [--per-class 10] [--rates 10]
+                         [--durations 3000,5000] [--floors quiet,nominal,noisy,nominal_flat]
+                         [--classes warmup,...]
+"""
+
+import argparse
+import json
+import math
+import os
+
+import numpy as np
+
+TUNING_SEEDS = range(1000, 2000)
+REPORT_SEEDS = range(1, 1000)
+
+FLOORS = {
+    "quiet": 0.1,
+    "nominal": 1.0,
+    "noisy": 10.0,
+    "nominal_flat": 1.0,
+}
+WHITE_N = 0.03
+GM_BANK = [(0.004, 8.0), (0.005, 90.0), (0.004, 900.0)]
+RRW_K = 4e-5
+
+CLASSES = [
+    "warmup",
+    "temperature",
+    "ramp",
+    "sinusoid",
+    "bias_jumps",
+    "spikes",
+    "quantization",
+    "gauss_markov",
+    "dominant",
+    "none",
+    "outside",
+]
+
+
+def ar1(rng, n, sigma, tau, dt):
+    """Stationary first-order Gauss-Markov process (exact discretisation), vectorised in blocks."""
+    phi = math.exp(-dt / tau)
+    q = sigma * math.sqrt(1.0 - phi * phi)
+    e = rng.standard_normal(n) * q
+    out = np.empty(n)
+    x0 = rng.standard_normal() * sigma
+    # Within a block x_k = phi^k (x0 + sum_{j<=k} phi^-j e_j); blocks keep phi^-k below e^40.
+    block = max(1, min(n, int(40.0 / max(dt / tau, 1e-12))))
+    start = 0
+    while start < n:
+        stop = min(n, start + block)
+        k = np.arange(stop - start)
+        lp = k * math.log(phi)
+        s = np.cumsum(e[start:stop] * np.exp(-lp))
+        out[start:stop] = np.exp(lp) * (x0 * phi + s)
+        x0 = out[stop - 1]
+        start = stop
+    return out
+
+
+def floor_noise(rng, name, n, fs):
+    s = FLOORS[name]
+    dt = 1.0 / fs
+    x = rng.standard_normal(n) * (s * WHITE_N * math.sqrt(fs))
+    if name != "nominal_flat":
+        for sigma, tau in GM_BANK:
+            x += ar1(rng, n, s * sigma, tau, dt)
+    x += np.cumsum(rng.standard_normal(n)) * (s * RRW_K * math.sqrt(dt))
+    return x
+
+
+def temperature_profile(rng, t, duration):
+    warm = rng.uniform(2.0, 6.0) * (1.0 - np.exp(-t / rng.uniform(600.0, 2400.0)))
+    period = rng.uniform(1500.0, 6000.0)
+    sine = rng.uniform(0.5, 2.0) * np.sin(2 * math.pi * t / period + rng.uniform(0, 2 * math.pi))
+    steps = np.zeros_like(t)
+    for _ in range(rng.integers(1, 4)):
+        at = rng.uniform(0.1, 0.9) * duration
+        steps += rng.uniform(-1.5, 1.5) * (1.0 / (1.0 + np.exp(-(t - at) / 60.0)))
+    return rng.uniform(18.0, 30.0) + warm + sine + steps + rng.standard_normal(t.size) * 0.03
+
+
+def log_uniform(rng, lo, hi):
+    u = rng.uniform()
+    return lo * (hi / lo) ** u, u
+
+
+def bin_of(u):
+    return "low" if u < 1 / 3 else ("mid" if u < 2 / 3 else "high")
+
+
+def poisson_times(rng, rate_per_h, duration):
+    count = rng.poisson(rate_per_h * duration / 3600.0)
+    return np.sort(rng.uniform(0.0, duration, count))
+
+
+def add_effect(rng, kind, t, fs, duration, s, temp, strength=None):
+    """Returns (signal to add, post-processing fn or None, description dict).
+
+    strength: None to draw the magnitude over the whole range, "high"/"low" to force a third."""
+    n = t.size
+
+    def draw(lo, hi):
+        if strength is None:
+            return log_uniform(rng, lo, hi)
+        u = rng.uniform(2 / 3, 1.0) if strength == "high" else rng.uniform(0.0, 1 / 3)
+        return lo * (hi / lo) ** u, u
+
+    sign = rng.choice([-1.0, 1.0])
+    if kind == "warmup":
+        m, u = draw(0.03, 0.3)
+        tau, _ = log_uniform(rng, 60.0, duration / 4.0)
+        sub = "long_warmup" if tau >= 900.0 else "warmup"
+        return sign * m * s * np.exp(-t / tau), None, dict(sub=sub, m=m, u=u, amplitude_dps=sign * m * s, time_scale_s=tau)
+    if kind == "temperature":
+        m, u = draw(0.003, 0.03)
+        c = sign * m * s
+        return c * (temp - temp.mean()), None, dict(sub="temperature", m=m, u=u, dps_per_c=c, time_scale_s=None)
+    if kind == "ramp":
+        m, u = draw(0.03, 0.5)
+        return sign * m * s * t / duration, None, dict(sub="ramp", m=m, u=u, change_dps=sign * m * s, time_scale_s=duration)
+    if kind == "sinusoid":
+        m, u = draw(0.005, 0.05)
+        f, _ = log_uniform(rng, 10.0 / duration, min(1.0, fs / 4.0))
+        phi = rng.uniform(0, 2 * math.pi)
+        return m * s * np.sin(2 * math.pi * f * t + phi), None, dict(sub="sinusoid", m=m, u=u, amplitude_dps=m * s, frequency_hz=f, time_scale_s=1.0 / f)
+    if kind == "bias_jumps":
+        many = rng.uniform() < 0.5
+        if many:
+            rate = rng.uniform(20.0, 100.0)
+            m, u = draw(0.004, 0.02)
+        else:
+            rate = rng.uniform(1.0, 6.0)
+            m, u = draw(0.02, 0.1)
+        times = poisson_times(rng, rate, duration)
+        if times.size == 0:
+            times = np.array([rng.uniform(0.1, 0.6) * duration])
+        sizes = rng.standard_normal(times.size) * m * s if not many else rng.choice([-1.0, 1.0], times.size) * m * s
+        x = np.zeros(n)
+        for at, size in zip(times, sizes):
+            x[t >= at] += size
+        return x, None, dict(sub="many_small_steps" if many else "few_large_steps", m=m, u=u, rate_per_h=rate, jumps=int(times.size), time_scale_s=3600.0 / rate)
+    if kind == "spikes":
+        m, u = draw(0.6, 3.0)
+        rate = rng.uniform(5.0, 100.0)
+        idx = np.unique(rng.integers(0, n, max(1, rng.poisson(rate * duration / 3600.0))))
+        x = np.zeros(n)
+        x[idx] = rng.choice([-1.0, 1.0], idx.size) * m * s * rng.uniform(0.7, 1.3, idx.size)
+        return x, None, dict(sub="spikes", m=m, u=u, rate_per_h=rate, spikes=int(idx.size), time_scale_s=None)
+    if kind == "quantization":
+        m, u = draw(0.02, 0.2)
+        step = m * s
+
+        def quantise(y):
+            return np.round(y / step) * step
+
+        return np.zeros(n), quantise, dict(sub="quantization", m=m, u=u, step_dps=step, time_scale_s=None)
+    if kind == "gauss_markov":
+        m, u = draw(0.006, 0.04)
+        tau, _ = log_uniform(rng, 5.0, 300.0)
+        sub = "gm_1min" if 30.0 <= tau <= 120.0 else "gauss_markov"
+        return ar1(rng, n, m * s, tau, 1.0 / fs), None, dict(sub=sub, m=m, u=u, sigma_dps=m * s, time_scale_s=tau)
+    if kind == "chirp":
+        m, u = draw(0.01, 0.04)
+        f0, f1 = 0.01, 0.2
+        phase = 2 * math.pi * (f0 * t + 0.5 * (f1 - f0) * t * t / duration)
+        return m * s * np.sin(phase), None, dict(sub="chirp", m=m, u=u, amplitude_dps=m * s, time_scale_s=None)
+    if kind == "noise_burst":
+        m, u = draw(2.0, 4.0)
+        length = rng.uniform(0.1, 0.3) * duration
+        at = rng.uniform(0.0, duration - length)
+        inside = (t >= at) & (t < at + length)
+        x = np.zeros(n)
+        x[inside] = rng.standard_normal(inside.sum()) * s * WHITE_N * math.sqrt(fs) * math.sqrt(m * m - 1.0)
+        return x, None, dict(sub="noise_burst", m=m, u=u, start_s=at, time_scale_s=length)
+    if kind == "triangle":
+        m, u = draw(0.01, 0.05)
+        period, _ = log_uniform(rng, duration / 8.0, duration / 2.0)
+        ph = (t / period + rng.uniform()) % 1.0
+        return m * s * (4.0 * np.abs(ph - 0.5) - 1.0), None, dict(sub="triangle", m=m, u=u, amplitude_dps=m * s, time_scale_s=period)
+    raise ValueError(kind)
+
+
+def make_case(seed, klass, rates, durations, floors):
+    rng = np.random.Generator(np.random.PCG64([seed, 16]))
+    fs = float(rng.choice(rates))
+    duration = float(round(rng.uniform(durations[0], durations[1])))
+    floor = str(rng.choice(floors))
+    s = FLOORS[floor]
+    n = int(round(duration * fs))
+    t = np.arange(n) / fs
+    temp = temperature_profile(rng, t, duration)
+    x = floor_noise(rng, floor, n, fs) + rng.uniform(-1.0, 1.0)
+    post = []
+    if klass == "none":
+        expected, info = "none", dict(sub="none", m=None, u=None, time_scale_s=None)
+    elif klass == "outside":
+        kind = str(rng.choice(["chirp", "noise_burst", "triangle"]))
+        add, p, info = add_effect(rng, kind, t, fs, duration, s, temp)
+        x += add
+        expected = "outside"
+    elif klass == "dominant":
+        main = str(rng.choice(["warmup", "sinusoid", "ramp"]))
+        second = str(rng.choice([k for k in ["sinusoid", "spikes", "gauss_markov", "bias_jumps"] if k != main]))
+        add, _, info = add_effect(rng, main, t, fs, duration, s, temp, strength="high")
+        add2, _, info2 = add_effect(rng, second, t, fs, duration, s, temp, strength="low")
+        x += add + add2
+        expected = main
+        info = dict(info, sub=f"{main}+small_{second}", second=dict(info2, kind=second))
+    else:
+        add, p, info = add_effect(rng, klass, t, fs, duration, s, temp)
+        x += add
+        if p is not None:
+            post.append(p)
+        expected = klass
+    for p in post:
+        x = p(x)
+    return t, x, temp, dict(
+        seed=seed,
+        klass=klass,
+        expected=expected,
+        sub=info.pop("sub"),
+        magnitude=info.pop("m"),
+        magnitude_bin=None if info.get("u") is None else bin_of(info["u"]),
+        time_scale_s=info.pop("time_scale_s", None),
+        params={k: v for k, v in info.items() if k != "u"},
+        floor=floor,
+        floor_scale=s,
+        rate_hz=fs,
+        duration_s=duration,
+        samples=n,
+    )
+
+
+def write_csv(path, t, x, temp):
+    with open(path, "w") as f:
+        f.write("t_s,gx_dps,temp_c\n")
+        rows = np.column_stack([t, x, temp])
+        np.savetxt(f, rows, fmt=["%.6f", "%.9e", "%.4f"], delimiter=",")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out_dir")
+    ap.add_argument("--first-seed", type=int, default=1000)
+    ap.add_argument("--per-class", type=int, default=10)
+    ap.add_argument("--rates", default="10")
+    ap.add_argument("--durations", default="3000,5000")
+    ap.add_argument("--floors", default="quiet,nominal,noisy,nominal_flat")
+    ap.add_argument("--classes", default=",".join(CLASSES))
+    a = ap.parse_args()
+    rates = [float(r) for r in a.rates.split(",")]
+    durations = [float(d) for d in a.durations.split(",")]
+    floors = a.floors.split(",")
+    classes = a.classes.split(",")
+    for c in classes:
+        if c not in CLASSES:
+            ap.error(f"unknown class {c!r}; known: {', '.join(CLASSES)}")
+    for f in floors:
+        if f not in FLOORS:
+            ap.error(f"unknown floor {f!r}; known: {', '.join(FLOORS)}")
+    last = a.first_seed + len(classes) * a.per_class - 1
+    tuning = a.first_seed in TUNING_SEEDS and last in TUNING_SEEDS
+    report = a.first_seed in REPORT_SEEDS and last in REPORT_SEEDS
+    if not (tuning or report):
+        ap.error(f"seeds {a.first_seed}-{last} straddle the tuning (1000-1999) and report (1-999) ranges")
+    os.makedirs(a.out_dir, exist_ok=True)
+    cases = []
+    index = 0
+    for klass in classes:
+        for _ in range(a.per_class):
+            seed = a.first_seed + index
+            index += 1
+            t, x, temp, entry = make_case(seed, klass, rates, durations, floors)
+            name = f"case_{seed:04d}_{klass}.csv"
+            write_csv(os.path.join(a.out_dir, name), t, x, temp)
+            entry["file"] = name
+            cases.append(entry)
+    manifest = dict(
+        generator="tools/simgap/independent_cases.py",
+        seed_range="tuning" if tuning else "report",
+        first_seed=a.first_seed,
+        floors={f: dict(scale=FLOORS[f], white_n=WHITE_N * FLOORS[f], gm_bank=[] if f == "nominal_flat" else [[sg * FLOORS[f], tau] for sg, tau in GM_BANK], rrw_k=RRW_K * FLOORS[f]) for f in floors},
+        cases=cases,
+    )
+    with open(os.path.join(a.out_dir, "manifest.json"), "w") as f:
+        json.dump(manifest, f, indent=1)
+    print(f"{len(cases)} cases in {a.out_dir} (seeds {a.first_seed}-{last}, {manifest['seed_range']})")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,130 @@
+#!/usr/bin/env python3
+"""Scores `gyrocomp simgap` on the cases of independent_cases.py (issue 16): runs the diagnosis on
+every case of a manifest and prints the confusion matrix per effect class, per magnitude bin and
+per sub-class.
+
+Outcome of a case: the first chosen effect when the verdict is "explained" or "partly explained";
+`none` for "no significant gap"; `unexplained` otherwise. It is right when it equals the case's
+expected answer (an effect's name; `none` for the pure-IEEE control; `unexplained` for an effect
+outside the catalogue).
+
+Usage:
+    score.py CASE_DIR [--gyrocomp target/release/gyrocomp] [--jobs 1] [--extra "--threads 1"]
+             [--results results.json]
+"""
+
+import argparse
+import collections
+import concurrent.futures
+import json
+import os
+import shlex
+import subprocess
+import sys
+import time
+
+
+def outcome(doc):
+    verdict = doc["verdict"]
+    if verdict in ("explained", "partly_explained") and doc["chosen"]:
+        return doc["chosen"][0]
+    if verdict == "no_significant_gap":
+        return "none"
+    return "unexplained"
+
+
+def expected_outcome(case):
+    return "unexplained" if case["expected"] == "outside" else case["expected"]
+
+
+def run_case(gyrocomp, case_dir, case, extra):
+    cmd = [gyrocomp, "simgap", "--real", os.path.join(case_dir, case["file"]), "--json"] + extra
+    start = time.time()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    seconds = time.time() - start
+    if proc.returncode != 0:
+        return dict(seed=case["seed"], error=proc.stderr.strip()[-400:], seconds=seconds)
+    doc = json.loads(proc.stdout)
+    named = outcome(doc)
+    return dict(
+        seed=case["seed"],
+        outcome=named,
+        verdict=doc["verdict"],
+        chosen=doc["chosen"],
+        tried=doc["tried"],
+        gap_before=[doc["gap_before_train"], doc["gap_before"]],
+        gap_after=[doc["gap_after_train"], doc["gap_after"]],
+        correct=named == expected_outcome(case),
+        seconds=seconds,
+    )
+
+
+def table(title, rows, key):
+    groups = collections.OrderedDict()
+    for case, res in rows:
+        groups.setdefault(key(case), []).append(res)
+    outcomes = sorted({r.get("outcome", "error") for _, r in rows})
+    print(f"\n{title}")
+    head = f"  {'':<34}{'right':>9}  " + " ".join(f"{o[:12]:>12}" for o in outcomes)
+    print(head)
+    for k, results in groups.items():
+        counts = collections.Counter(r.get("outcome", "error") for r in results)
+        right = sum(1 for r in results if r.get("correct"))
+        print(f"  {k:<34}{right:>4}/{len(results):<4} " + " ".join(f"{counts.get(o, 0):>12}" for o in outcomes))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("case_dir")
+    ap.add_argument("--gyrocomp", default="target/release/gyrocomp")
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--extra", default="", help="more gyrocomp simgap arguments")
+    ap.add_argument("--results", help="write per-case results (JSON) here")
+    ap.add_argument("--only", help="comma-separated classes to run")
+    ap.add_argument("--per-class", type=int, help="run only the first N cases of each class")
+    a = ap.parse_args()
+    with open(os.path.join(a.case_dir, "manifest.json")) as f:
+        manifest = json.load(f)
+    cases = manifest["cases"]
+    if a.only:
+        keep = set(a.only.split(","))
+        cases = [c for c in cases if c["klass"] in keep]
+    if a.per_class is not None:
+        seen = collections.Counter()
+        kept = []
+        for c in cases:
+            seen[c["klass"]] += 1
+            if seen[c["klass"]] <= a.per_class:
+                kept.append(c)
+        cases = kept
+    extra = shlex.split(a.extra)
+    start = time.time()
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        futures = [pool.submit(run_case, a.gyrocomp, a.case_dir, c, extra) for c in cases]
+        results = []
+        for c, fut in zip(cases, futures):
+            r = fut.result()
+            results.append(r)
+            mark = "ok " if r.get("correct") else "BAD"
+            print(f"{mark} seed {c['seed']:>4} {c['klass']:<13} {c['sub']:<28} {c['floor']:<12} "
+                  f"{c['rate_hz']:>5.0f} Hz {c['duration_s']:>6.0f} s bin {str(c['magnitude_bin']):<5} -> "
+                  f"{r.get('outcome', 'ERROR')} ({r.get('verdict', r.get('error', ''))}; tried {r.get('tried')}) "
+                  f"{r['seconds']:.1f} s", flush=True)
+    rows = list(zip(cases, results))
+    print(f"\n{len(cases)} cases from {a.case_dir} ({manifest['seed_range']} seeds), "
+          f"{time.time() - start:.0f} s; extra arguments: {a.extra or '(none)'}")
+    table("By effect class (rows: injected; columns: what was named first)", rows, lambda c: c["klass"])
+    table("By effect class and magnitude bin", rows, lambda c: f"{c['klass']} {c['magnitude_bin'] or '-'}")
+    table("By sub-class", rows, lambda c: c["sub"])
+    table("By noise floor", rows, lambda c: c["floor"])
+    right = sum(1 for r in results if r.get("correct"))
+    print(f"\nright: {right}/{len(results)}")
+    if a.results:
+        with open(a.results, "w") as f:
+            json.dump(dict(manifest_dir=a.case_dir, seed_range=manifest["seed_range"],
+                           cases=[dict(c, result=r) for c, r in rows]), f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
