@@ -20,7 +20,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use gyrocomp::daemon::state::SNAPSHOT_FILE;
-use gyrocomp::stream::ipc::{
+use gyrocomp::ipc::{
     CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, STATUS_NO_MODEL, prime,
 };
 use gyrocomp::stream::snapshot::Snapshot;
@@ -176,7 +176,7 @@ fn prime_until(
     comp: &CompSubscriber,
     mut seq: u64,
     timeout: Duration,
-) -> (gyrocomp::stream::ipc::CompSample, u64) {
+) -> (gyrocomp::ipc::CompSample, u64) {
     let start = Instant::now();
     loop {
         assert!(start.elapsed() < timeout, "no answer within {timeout:?}");
