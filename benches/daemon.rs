@@ -17,7 +17,7 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use gyrocomp::config::Config;
 use gyrocomp::daemon::{Daemon, Signals};
-use gyrocomp::stream::ipc::{IpcDomain, IpcNode, IpcSettings, RawSample, WaitMode, prime};
+use gyrocomp::ipc::{IpcDomain, IpcNode, IpcSettings, RawSample, WaitMode, prime};
 
 /// A small deterministic noise around a constant bias (a static gyro).
 fn sample(seq: u64) -> RawSample {

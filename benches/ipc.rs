@@ -14,7 +14,7 @@ use std::thread;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use gyrocomp::stream::ipc::{IpcDomain, IpcNode, IpcSettings, RawSample, WaitMode, prime, run_echo};
+use gyrocomp::ipc::{IpcDomain, IpcNode, IpcSettings, RawSample, WaitMode, prime, run_echo};
 
 fn roundtrip(c: &mut Criterion, mode: WaitMode, label: &str) {
     let domain = IpcDomain::unique("bench").expect("private domain");

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 use gyrocomp::config::Config;
 use gyrocomp::daemon::{Daemon, Signals};
-use gyrocomp::stream::ipc::{
+use gyrocomp::ipc::{
     CompSubscriber, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, WaitMode, prime, run_echo,
 };
 

@@ -21,7 +21,7 @@ use gyrocomp::model::Fit;
 use gyrocomp::model::lssvm::kernel::kernel_plus_ridge;
 use gyrocomp::model::lssvm::{CpsoLssvm, LssvmConfig, NystromConfig};
 use gyrocomp::model::scaler::MinMaxScaler;
-use gyrocomp::stream::embed::Embedding;
+use gyrocomp::model::embed::Embedding;
 use gyrocomp::wavelet::{DenoiseConfig, denoise_batch};
 
 const SAMPLES: usize = 5021;

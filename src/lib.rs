@@ -4,18 +4,20 @@
 //! denoising, phase-space reconstruction and CPSO-LSSVM"): db4 wavelet denoising, phase-space
 //! reconstruction (PSR, delay τ and dimension m chosen by the C-C method), then an LSSVM regression.
 //!
-//! Module map (pure numerics never touch files, threads or IPC):
-//! - [`wavelet`]: Daubechies filters, PyWavelets-compatible `wavedec`/`waverec`, universal soft
-//!   threshold, batch denoising.
-//! - [`sim`]: seeded IMU error simulator (presets, TOML configs) and known motion profiles.
-//! - [`stream`]: per-sample building blocks: ring buffer, causal wavelet denoiser, PSR embedding.
-//! - [`model`]: the [-1, 1] scaler (Eq. 21) and the C-C method (Eq. 18–20).
-//! - [`diag`]: Allan deviation and the IEEE Std 952 noise-term fit.
-//! - [`eval`]: evaluation protocols (the paper's, beside honest baselines).
-//! - [`config`]: the configuration file (`configs/default.toml`).
-//! - [`io`]: CSV reading and writing (the edge where files live).
+//! Module map, by layer (docs/design.md "Layers"; each imports only those above it in this list,
+//! `tests/architecture.rs` checks it):
+//! - numerics, never touching files, threads or IPC: [`wavelet`] (Daubechies filters,
+//!   PyWavelets-compatible `wavedec`/`waverec`, universal soft threshold, batch denoising),
+//!   [`model`] (the models behind `Fit`/`Predict`, the phase-space embedding, the C-C method,
+//!   scaler, metrics), [`sim`] (seeded IMU error simulator and motion profiles), [`diag`] (Allan
+//!   deviation, the IEEE Std 952 noise-term fit, the sim-to-real diagnosis);
+//! - [`stream`]: the per-sample [`Pipeline`](stream::Pipeline) and its stages, the retrainer,
+//!   snapshot encoding — no I/O, no configuration file;
+//! - [`io`] (CSV reading and writing, the edge where files live) and [`ipc`] (iceoryx2);
+//! - [`config`] (the configuration file, `configs/default.toml`, [`Config::load`](config::Config::load)),
+//!   [`drive`] (pipelines built from it, the offline driver, what the binaries share), [`eval`]
+//!   (evaluation protocols, the paper's beside honest baselines), [`daemon`] (`gyrocompd`);
 //! - [`cli`]: the `gyrocomp` command-line driver.
-//! - [`daemon`]: `gyrocompd`, the iceoryx2 sidecar daemon (pipeline, retrainer, signals).
 
 #![warn(missing_docs)]
 
@@ -23,8 +25,10 @@ pub mod cli;
 pub mod config;
 pub mod daemon;
 pub mod diag;
+pub mod drive;
 pub mod eval;
 pub mod io;
+pub mod ipc;
 pub mod model;
 pub mod sim;
 pub mod stream;

@@ -6,7 +6,7 @@ use gyrocomp::model::metrics::Metrics;
 use gyrocomp::model::rng::SplitMix64;
 use gyrocomp::model::scaler::MinMaxScaler;
 use gyrocomp::model::{Fit, FitError, Predict, predict_from};
-use gyrocomp::stream::embed::Embedding;
+use gyrocomp::model::embed::Embedding;
 
 /// A standard normal value from two SplitMix64 uniforms (Box–Muller), for simulated series.
 fn normal(rng: &mut SplitMix64) -> f64 {

@@ -13,7 +13,7 @@ use gyrocomp::model::cpso::{CpsoConfig, CpsoError, minimize};
 use gyrocomp::model::lssvm::{CpsoLssvm, Fitness, LssvmConfig, Solver};
 use gyrocomp::model::rng::Rng;
 use gyrocomp::model::{Fit, predict_from};
-use gyrocomp::stream::embed::Embedding;
+use gyrocomp::model::embed::Embedding;
 
 fn config(particles: usize, iterations: usize, seed: u64) -> CpsoConfig {
     CpsoConfig {

@@ -11,7 +11,7 @@ use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 use gyrocomp::sim::{Generator, Preset};
-use gyrocomp::stream::ipc::{
+use gyrocomp::ipc::{
     CompSample, CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, STATUS_MOVING,
     StatusEvent, StatusSample, StatusSubscriber, prime,
 };

@@ -15,7 +15,7 @@ mod ins_child;
 use std::time::{Duration, Instant};
 
 use daemon_proc::{DaemonProc, prime_until, round_trip, wait_status};
-use gyrocomp::stream::ipc::{Delivery, IpcDomain, IpcNode, IpcSettings, StatusEvent};
+use gyrocomp::ipc::{Delivery, IpcDomain, IpcNode, IpcSettings, StatusEvent};
 use ins_child::ChildProc;
 
 /// Subscriber buffer of every port in this test (the daemon's `[ipc] subscriber_buffer`).

@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 
 use gyrocomp::daemon::state::SNAPSHOT_FILE;
 use daemon_proc::{DaemonProc, prime_until, sample};
-use gyrocomp::stream::ipc::{CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, STATUS_NO_MODEL};
+use gyrocomp::ipc::{CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, STATUS_NO_MODEL};
 use gyrocomp::stream::snapshot::Snapshot;
 use ins_child::ChildProc;
 

@@ -25,7 +25,7 @@ use daemon_proc::{DaemonProc, prime_until, round_trip};
 use gyrocomp::config::Config;
 use gyrocomp::daemon::instance_lock::LOCK_FILE;
 use gyrocomp::daemon::{Daemon, DaemonError, Signals};
-use gyrocomp::stream::ipc::{Delivery, IpcDomain, IpcError, IpcNode, IpcSettings};
+use gyrocomp::ipc::{Delivery, IpcDomain, IpcError, IpcNode, IpcSettings};
 
 /// Exit code of a refused second instance (src/bin/gyrocompd.rs).
 const ALREADY_RUNNING: i32 = 3;
@@ -83,7 +83,7 @@ impl Drop for Setup {
 
 fn client(domain: &IpcDomain, name: &str, service_prefix: &str) -> IpcNode {
     let delivery = Delivery::Lossless { give_up_after: Some(Duration::from_secs(5)) };
-    let names = gyrocomp::stream::ipc::ServiceNames::with_prefix(service_prefix);
+    let names = gyrocomp::ipc::ServiceNames::with_prefix(service_prefix);
     IpcNode::new(domain, name, IpcSettings { delivery, names, ..IpcSettings::default() }).unwrap()
 }
 

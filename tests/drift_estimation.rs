@@ -257,7 +257,7 @@ fn the_hybrid_estimator_follows_a_periodic_bias_through_a_motion_where_the_track
         ), "test")
         .unwrap();
         config.retrain.cpso_iterations = 6;
-        let mut p = gyrocomp::stream::build_pipeline(&config).unwrap();
+        let mut p = gyrocomp::drive::build_pipeline(&config).unwrap();
         let outputs: Vec<OutputSample> = inputs.iter().map(|s| p.process(s)).collect();
         let (mut sum, mut n, mut moving) = (0.0, 0, 0);
         for (k, o) in outputs.iter().enumerate() {

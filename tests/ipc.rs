@@ -11,7 +11,7 @@ use std::sync::{Arc, Barrier};
 use std::thread;
 use std::time::{Duration, Instant};
 
-use gyrocomp::stream::ipc::{
+use gyrocomp::ipc::{
     CompSample, Delivery, IpcDomain, IpcNode, IpcSettings, RawSample, STATUS_NO_MODEL, StatusEvent, StatusSample,
     WaitMode, prime, run_echo,
 };
@@ -48,8 +48,8 @@ fn shm_leftovers(domain: &IpcDomain) -> Vec<String> {
 
 /// A raw sample with a temperature (NaN would make `==` fail).
 /// Publisher side of a start-up handshake: returns once the subscriber (on another thread) has
-/// attached to this publisher's connection (see `gyrocomp::stream::ipc::client`).
-fn publisher_attached(publisher: &gyrocomp::stream::ipc::RawPublisher, barrier: &Barrier) {
+/// attached to this publisher's connection (see `gyrocomp::ipc::client`).
+fn publisher_attached(publisher: &gyrocomp::ipc::RawPublisher, barrier: &Barrier) {
     assert!(publisher.wait_for_subscriber(Duration::from_secs(5)));
     publisher.update_connections().unwrap();
     barrier.wait();
@@ -57,7 +57,7 @@ fn publisher_attached(publisher: &gyrocomp::stream::ipc::RawPublisher, barrier: 
 }
 
 /// Subscriber side of the handshake: attaches (looking for samples does it) between the two waits.
-fn subscriber_attached(subscriber: &gyrocomp::stream::ipc::RawSubscriber, barrier: &Barrier) {
+fn subscriber_attached(subscriber: &gyrocomp::ipc::RawSubscriber, barrier: &Barrier) {
     barrier.wait();
     assert!(!subscriber.has_samples().unwrap());
     barrier.wait();

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use gyrocomp::stream::ipc::IpcDomain;
+use gyrocomp::ipc::IpcDomain;
 use ins_child::{ChildProc, Progress};
 
 const NOBODY: u32 = 65534;

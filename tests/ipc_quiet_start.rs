@@ -8,8 +8,8 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use gyrocomp::stream::ipc::IpcDomain;
-use gyrocomp::stream::ipc::domain::global_config_candidates;
+use gyrocomp::ipc::IpcDomain;
+use gyrocomp::ipc::domain::global_config_candidates;
 use tracing_subscriber::layer::{Context, SubscriberExt};
 use tracing_subscriber::Layer;
 

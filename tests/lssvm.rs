@@ -14,7 +14,7 @@ use gyrocomp::model::lssvm::{
     LssvmConfig, NystromConfig, NystromProblem, PrototypeSelection, select_prototypes, solve_exact,
 };
 use gyrocomp::model::{Fit, predict_from};
-use gyrocomp::stream::embed::Embedding;
+use gyrocomp::model::embed::Embedding;
 
 const TOL: f64 = 1e-8;
 

@@ -9,9 +9,8 @@ use std::path::{Path, PathBuf};
 use gyrocomp::config::Config;
 use gyrocomp::io::{CompensatedCsvWriter, ReadOptions, Recording, RecordingError, read_table};
 use gyrocomp::sim::{Generator, Preset};
-use gyrocomp::stream::{
-    FLAG_MOVING, OutputSample, Pipeline, STATUS_NO_MODEL, STATUS_REJECTED, Trainer, compensate_recording, run_pipeline,
-};
+use gyrocomp::drive::{compensate_recording, run_pipeline};
+use gyrocomp::stream::{FLAG_MOVING, OutputSample, Pipeline, STATUS_NO_MODEL, STATUS_REJECTED, Trainer};
 
 fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);

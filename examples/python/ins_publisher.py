@@ -19,7 +19,7 @@ Usage:
     python3 examples/python/ins_publisher.py --domain-prefix gc123_ --domain-root /tmp/gc123/
 
 The service settings (safe overflow off, subscriber buffer 2048, history 0) equal the Rust side's
-(`src/stream/ipc/services.rs`); iceoryx2 refuses to open a service whose settings differ.
+(`src/ipc/services.rs`); iceoryx2 refuses to open a service whose settings differ.
 """
 
 import argparse

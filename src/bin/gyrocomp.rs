@@ -4,7 +4,8 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use gyrocomp::cli::progress::stderr_clearing_bar;
-use gyrocomp::cli::{Cli, error_chain, run};
+use gyrocomp::cli::{Cli, run};
+use gyrocomp::drive::error_chain;
 use tracing_subscriber::EnvFilter;
 
 fn main() -> ExitCode {

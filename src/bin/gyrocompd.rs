@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use gyrocomp::daemon::{Daemon, DaemonError, Signals, logging, run::load_config};
+use gyrocomp::config::Config;
+use gyrocomp::daemon::{Daemon, DaemonError, Signals, logging};
+use gyrocomp::drive::error_chain;
 
 /// Exit code when another gyrocompd already serves the service prefix or state directory.
 const ALREADY_RUNNING: u8 = 3;
@@ -25,7 +27,7 @@ struct Args {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    let config = match load_config(args.config.as_deref()) {
+    let config = match Config::load(args.config.as_deref()).map_err(DaemonError::from) {
         Ok(c) => c,
         Err(e) => return fail(&e),
     };
@@ -50,6 +52,6 @@ fn main() -> ExitCode {
 
 /// Prints `error` and its causes on stderr (logging may not be set up yet) and returns 2.
 fn fail(error: &dyn std::error::Error) -> ExitCode {
-    eprintln!("gyrocompd: error: {}", gyrocomp::cli::error_chain(error));
+    eprintln!("gyrocompd: error: {}", error_chain(error));
     ExitCode::from(2)
 }

@@ -1,6 +1,6 @@
 //! `gyrocomp compensate`: the offline driver (docs/design.md "One pipeline, three drivers", driver 3).
 //! The recording goes sample by sample through the daemon's pipeline and retrainer
-//! ([`crate::stream::compensate_recording`], retraining deterministically) and every sample gets
+//! ([`crate::drive::compensate_recording`], retraining deterministically) and every sample gets
 //! one row in the output CSV ([`crate::io::compensated_csv`]). A one-line summary goes to stderr,
 //! or with `--json` a JSON object to stdout.
 
@@ -10,12 +10,13 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::CliError;
-use super::input::load_config;
+use crate::config::Config;
 use super::progress::Progress;
 use crate::io::{CompensatedCsvWriter, Recording};
 use crate::config::RateSetting;
 use crate::model::metrics::sample_std_dev;
-use crate::stream::{STATUS_MOVING, STATUS_REJECTED, compensate_recording};
+use crate::drive::compensate_recording;
+use crate::stream::{STATUS_MOVING, STATUS_REJECTED};
 
 /// Arguments of `gyrocomp compensate`.
 #[derive(Debug, clap::Args)]
@@ -74,7 +75,7 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
     if args.json && args.output.as_os_str() == "-" {
         return Err("--json prints the summary on standard output, where `-o -` writes the CSV: choose one".into());
     }
-    let config = load_config(args.config.as_deref())?;
+    let config = Config::load(args.config.as_deref())?;
     let columns: Vec<&str> = args.columns.iter().map(String::as_str).collect();
     let rec = Recording::load(&args.input, &columns, args.moving_column.as_deref())?;
     if let RateSetting::Hz(hz) = config.input.rate_hz {

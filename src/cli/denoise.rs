@@ -9,7 +9,8 @@ use serde::Serialize;
 use tracing::info;
 
 use super::CliError;
-use super::input::{load_config, load_series};
+use crate::config::Config;
+use super::input::load_series;
 use crate::io::CsvColumnsWriter;
 use crate::model::metrics;
 use crate::stream::{CausalConfig, denoise_causal};
@@ -99,7 +100,7 @@ struct SweepRow {
 
 /// Runs `gyrocomp denoise`.
 pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
-    let mut settings = load_config(args.config.as_deref())?;
+    let mut settings = Config::load(args.config.as_deref())?;
     let section = &mut settings.denoise;
     section.wavelet = args.wavelet.clone().unwrap_or(std::mem::take(&mut section.wavelet));
     section.level = args.level.unwrap_or(section.level);

@@ -13,8 +13,8 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::CliError;
-use super::eval::{EvalArgs, parse_models};
-use super::input::load_config;
+use crate::config::Config;
+use super::eval_args::{EvalArgs, parse_models};
 use super::progress::Progress;
 use crate::eval::motion::MotionScores;
 use crate::model::metrics::quantile;
@@ -60,7 +60,7 @@ struct ModelRow {
 /// Runs the motion-injected protocol.
 pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     let kinds = parse_models::<MotionModel>(args.models.as_deref())?.unwrap_or_else(|| MotionModel::ALL.to_vec());
-    let config = load_config(args.config.as_deref())?;
+    let config = Config::load(args.config.as_deref())?;
     // Finite rates and truth, with line-exact errors; the flags checked to be 0/1 the same way.
     let mut table = read_table(&args.input, &[&args.column, TRUTH_COLUMN], ReadOptions::default())?;
     let mut rec = Recording::load(&args.input, &[&args.column], Some(MOVING_COLUMN))?;

@@ -2,7 +2,6 @@
 
 use std::path::Path;
 
-use crate::config::Config;
 use crate::io::{ReadOptions, Table, read_table};
 
 use super::CliError;
@@ -40,9 +39,3 @@ pub fn load_series(path: &Path, column: &str, rate_override: Option<f64>) -> Res
     Ok(Series { t_s, values, rate_hz, temp_c })
 }
 
-/// Reads and validates the configuration file at `path`, or returns the defaults without one.
-pub fn load_config(path: Option<&Path>) -> Result<Config, CliError> {
-    let Some(path) = path else { return Ok(Config::default()) };
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    Ok(Config::from_toml(&text, &path.display().to_string())?)
-}

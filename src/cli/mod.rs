@@ -7,6 +7,7 @@ pub mod compensate;
 pub mod demo;
 pub mod denoise;
 pub mod eval;
+pub mod eval_args;
 pub mod eval_motion;
 pub mod input;
 pub mod motion;
@@ -49,7 +50,7 @@ pub enum Command {
     /// Overlapping Allan deviation of a rate column and the IEEE Std 952 noise-term fit.
     Allan(allan::AllanArgs),
     /// Evaluate the models beside honest baselines (paper or motion-injected protocol).
-    Eval(eval::EvalArgs),
+    Eval(eval_args::EvalArgs),
     /// Compensate a recording offline with the daemon's pipeline (CSV in, CSV out).
     Compensate(compensate::CompensateArgs),
     /// Sim-to-real gap: where a simulation differs from a recording, which unmodelled effect
@@ -70,16 +71,4 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Compensate(args) => compensate::run(&args),
         Command::Simgap(args) => simgap::run(&args),
     }
-}
-
-/// Formats an error with its chain of causes, one `caused by:` line each, for a binary's last
-/// message on stderr.
-pub fn error_chain(error: &dyn std::error::Error) -> String {
-    let mut msg = error.to_string();
-    let mut source = error.source();
-    while let Some(cause) = source {
-        msg.push_str(&format!("\n  caused by: {cause}"));
-        source = cause.source();
-    }
-    msg
 }

@@ -2,7 +2,7 @@
 //! `t_s,gx_dps,gy_dps,gz_dps,temp_c,gx_drift_dps,gy_drift_dps,gz_drift_dps` (the drift columns are
 //! the truth: every error term except white noise and quantisation).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::ValueEnum;
@@ -10,9 +10,9 @@ use serde::Serialize;
 use tracing::info;
 
 use super::CliError;
-use crate::io::CsvColumnsWriter;
+use crate::io::write_sim_csv;
 use crate::model::metrics::population_std_dev;
-use crate::sim::{AXIS_NAMES, Generator, Preset, SimConfig, SimOutput};
+use crate::sim::{Generator, Preset, SimConfig};
 
 /// The built-in presets (documented in `gyrocomp::sim::presets`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -98,21 +98,6 @@ pub fn effective_config(args: &SimArgs) -> Result<SimConfig, CliError> {
     }
     config.validate()?;
     Ok(config)
-}
-
-/// Writes a simulation as `gyrocomp sim` does: `t_s`, `gx_dps`, `gy_dps`, `gz_dps`, `temp_c`,
-/// then the true drift of each axis (`gx_drift_dps`, …).
-pub fn write_sim_csv(path: &Path, out: &SimOutput) -> Result<(), CliError> {
-    let mut header: Vec<String> = vec!["t_s".into()];
-    header.extend(AXIS_NAMES.iter().map(|a| format!("g{a}_dps")));
-    header.push("temp_c".into());
-    header.extend(AXIS_NAMES.iter().map(|a| format!("g{a}_drift_dps")));
-    let header: Vec<&str> = header.iter().map(String::as_str).collect();
-    let [x, y, z] = &out.axes;
-    let columns: [&[f64]; 8] = [&out.t_s, &x.raw, &y.raw, &z.raw, &out.temp_c, &x.drift, &y.drift, &z.drift];
-    CsvColumnsWriter::create(path)
-        .and_then(|w| w.write(&header, &columns))
-        .map_err(|e| format!("{}: cannot write: {e}", path.display()).into())
 }
 
 /// Runs `gyrocomp sim`.

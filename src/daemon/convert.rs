@@ -1,6 +1,6 @@
 //! Field-by-field conversion between the iceoryx2 wire types and the pipeline's records.
 
-use crate::stream::ipc::{CompSample, RawSample, StatusEvent, StatusSample};
+use crate::ipc::{CompSample, RawSample, StatusEvent, StatusSample};
 use crate::stream::{InputSample, OutputSample, PipelineStats};
 
 /// The pipeline input of a raw wire sample (flags and temperature carried over).
@@ -106,7 +106,7 @@ pub fn status_sample(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stream::ipc::RAW_FLAG_MOVING;
+    use crate::ipc::RAW_FLAG_MOVING;
 
     #[test]
     fn fields_are_carried_over() {

@@ -24,11 +24,12 @@ use super::reload;
 use super::signals::Signals;
 use super::state::{self, SNAPSHOT_FILE, SnapshotJob, SnapshotWriter};
 use crate::config::{Config, ConfigError, DomainChoice};
-use crate::stream::ipc::{
+use crate::ipc::{
     CompPublisher, IpcDomain, IpcError, IpcNode, RawSample, RawSubscriber, StatusEvent, StatusPublisher,
 };
 use crate::stream::snapshot::Compat;
-use crate::stream::{BuildError, Pipeline, build_pipeline};
+use crate::drive::{BuildError, build_pipeline};
+use crate::stream::Pipeline;
 
 /// Longest single wait for a raw sample, so that signals are seen promptly.
 const POLL: Duration = Duration::from_millis(50);
@@ -42,14 +43,6 @@ const CLEANUP_PERIOD: Duration = Duration::from_secs(1);
 /// Why the daemon could not start.
 #[derive(Debug, thiserror::Error)]
 pub enum DaemonError {
-    /// The configuration file could not be read.
-    #[error("cannot read config file {path}: {source}")]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// The reason.
-        source: std::io::Error,
-    },
     /// The pipeline could not be built: an invalid configuration (the message names the key),
     /// settings the pipeline refused, or a retrain thread that could not be started. Shown as the
     /// [`BuildError`] itself.
@@ -137,7 +130,7 @@ fn lock_state_dir(dir: &Path, prefix: &str) -> Result<InstanceLock, DaemonError>
 /// not): said once at start.
 fn warn_if_shared_raw(node: &IpcNode, raw: &str) {
     match node.stream_publisher_limit(raw) {
-        Ok(limit) if limit > crate::stream::ipc::STREAM_MAX_PUBLISHERS => tracing::warn!(
+        Ok(limit) if limit > crate::ipc::STREAM_MAX_PUBLISHERS => tracing::warn!(
             service = raw,
             max_publishers = limit,
             "the raw service allows several publishers (a peer created it so); a second INS client's samples would \
@@ -146,13 +139,6 @@ fn warn_if_shared_raw(node: &IpcNode, raw: &str) {
         Ok(_) => {}
         Err(e) => tracing::debug!(error = %e, "publisher limit of the raw service unknown"),
     }
-}
-
-/// Reads and validates a configuration file; `None` gives the built-in defaults.
-pub fn load_config(path: Option<&Path>) -> Result<Config, DaemonError> {
-    let Some(path) = path else { return Ok(Config::default()) };
-    let text = std::fs::read_to_string(path).map_err(|source| DaemonError::Read { path: path.into(), source })?;
-    Ok(Config::from_toml(&text, &path.display().to_string())?)
 }
 
 /// The daemon: a configuration (and the file it came from, for reloads) and its signal flags.
@@ -316,7 +302,7 @@ impl Daemon {
             tracing::warn!("SIGHUP: started without --config, nothing to reload");
             return;
         };
-        let new = match load_config(Some(path)) {
+        let new = match Config::load(Some(path)) {
             Ok(c) => c,
             Err(e) => {
                 tracing::warn!(error = %e, "SIGHUP: configuration refused; keeping the running one");

@@ -40,9 +40,8 @@ use super::motion::{MotionError, MotionRun};
 use crate::config::Config;
 use crate::model::baselines::{Ar, PersistenceModel};
 use crate::model::scaler::MinMaxScaler;
-use crate::stream::{
-    BuildError, DetectorKind, EstimatorKind, FLAG_MOVING, InputSample, MotionConfig, Pipeline, Trainer, build_pipeline, offline_config, run_pipeline,
-};
+use crate::drive::{BuildError, build_pipeline, offline_config, run_pipeline};
+use crate::stream::{DetectorKind, EstimatorKind, FLAG_MOVING, InputSample, MotionConfig, Pipeline, Trainer};
 
 /// A model of the motion-injected protocol (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

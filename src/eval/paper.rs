@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use crate::model::metrics::{Metrics, sample_std_dev};
 use crate::model::scaler::MinMaxScaler;
-use crate::stream::Embedding;
+use crate::model::embed::Embedding;
 use crate::wavelet::{DenoiseConfig, denoise_batch};
 
 /// Settings of the paper protocol.

@@ -8,8 +8,9 @@
 //! converted to deg/s. A EuRoC column may also be asked for by its own name (`w_RS_S_x`, with or
 //! without the unit); its values are converted the same way.
 
-use super::csv_read::TIME_COLUMN_NAMES;
-
+/// Accepted names of the time column of gyrocomp's dialect, in order of preference
+/// (docs/design.md "CSV conventions").
+pub const TIME_COLUMN_NAMES: [&str; 3] = ["t_s", "t", "time"];
 /// Degrees per radian.
 const DEG_PER_RAD: f64 = 180.0 / std::f64::consts::PI;
 /// First header field of the EuRoC / TUM-VI layout (its unit, when given, is `[ns]`).

@@ -20,10 +20,8 @@ use std::io::{BufRead, BufReader, Read};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-pub use super::csv_dialect::Dialect;
+pub use super::csv_dialect::{Dialect, TIME_COLUMN_NAMES};
 
-/// Accepted names of the time column, in order of preference (docs/design.md "CSV conventions").
-pub const TIME_COLUMN_NAMES: [&str; 3] = ["t_s", "t", "time"];
 /// Name of the optional temperature column.
 pub const TEMP_COLUMN: &str = "temp_c";
 /// Longest accepted line, bytes: a longer one (a binary file, a file without line ends) is an

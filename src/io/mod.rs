@@ -7,8 +7,10 @@ pub mod csv_dialect;
 pub mod csv_read;
 pub mod csv_write;
 pub mod recording;
+pub mod sim_csv;
 
 pub use compensated_csv::{CompensatedCsvWriter, compensated_header};
 pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table, read_table_from};
 pub use csv_write::{CsvColumnsWriter, create_output};
 pub use recording::{Recording, RecordingError, t_ns_from_s};
+pub use sim_csv::write_sim_csv;

@@ -10,8 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::lssvm::{LssvmModel, Solver};
-use super::traits::Predict;
-use crate::stream::embed::Embedding;
+use crate::model::embed::Embedding;
 
 /// Largest number of kernel centres a stored model may have (the exact path keeps every training
 /// row; `retrain.window` is bounded well below this by the configuration).
@@ -103,36 +102,10 @@ impl ModelState {
     }
 }
 
-impl Predict for ModelState {
-    fn history_len(&self) -> usize {
-        match self {
-            Self::Lssvm(t) => t.model.history_len(),
-            Self::Constant { .. } => 0,
-        }
-    }
-
-    fn predict(&self, history: &[f64]) -> f64 {
-        match self {
-            Self::Lssvm(t) => t.model.predict(history),
-            Self::Constant { value } => *value,
-        }
-    }
-
-    fn horizon(&self) -> usize {
-        match self {
-            Self::Lssvm(t) => t.model.horizon(),
-            Self::Constant { .. } => 1,
-        }
-    }
-
-    fn state(&self) -> Option<ModelState> {
-        Some(self.clone())
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Predict;
     use crate::model::Fit;
     use crate::model::cpso::CpsoConfig;
     use crate::model::lssvm::CpsoLssvm;

@@ -84,6 +84,35 @@ pub fn predict_from(model: &impl Predict, series: &[f64], start: usize) -> Vec<f
     (start..series.len()).map(|t| model.predict(&series[..t])).collect()
 }
 
+/// A stored model predicts like the model it came from (bit-identical, [`ModelState`]'s
+/// contract): a restored snapshot is used through the same trait.
+impl Predict for ModelState {
+    fn history_len(&self) -> usize {
+        match self {
+            Self::Lssvm(t) => t.model.history_len(),
+            Self::Constant { .. } => 0,
+        }
+    }
+
+    fn predict(&self, history: &[f64]) -> f64 {
+        match self {
+            Self::Lssvm(t) => t.model.predict(history),
+            Self::Constant { value } => *value,
+        }
+    }
+
+    fn horizon(&self) -> usize {
+        match self {
+            Self::Lssvm(t) => t.model.horizon(),
+            Self::Constant { .. } => 1,
+        }
+    }
+
+    fn state(&self) -> Option<ModelState> {
+        Some(self.clone())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

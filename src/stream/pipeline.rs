@@ -54,7 +54,7 @@ use super::detector::{
 use super::drift::{
     DriftConfig, DriftEstimate, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold,
 };
-use super::embed::Embedding;
+use crate::model::embed::Embedding;
 use super::input_check::{InputCheck, InputConfig, InputCounters};
 use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
 use super::motion_gate::MotionConfig;

@@ -28,7 +28,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::calibration::NoiseCalibration;
-use super::embed::Embedding;
+use crate::model::embed::Embedding;
 use super::model_slot::InstalledModel;
 use super::pipeline::{Pipeline, PipelineConfig};
 use crate::model::Predict;

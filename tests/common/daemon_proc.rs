@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
-use gyrocomp::stream::ipc::{CompSample, CompSubscriber, RawPublisher, RawSample, StatusSample, StatusSubscriber, prime};
+use gyrocomp::ipc::{CompSample, CompSubscriber, RawPublisher, RawSample, StatusSample, StatusSubscriber, prime};
 
 /// A running (or exited) `gyrocompd` and its log file (its stderr).
 pub struct DaemonProc {

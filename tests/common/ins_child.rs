@@ -27,7 +27,7 @@ use std::process::{Child, ChildStdout, Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use gyrocomp::stream::ipc::{
+use gyrocomp::ipc::{
     CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, STATUS_NO_MODEL, prime,
 };
 

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::check_series;
 use super::lstsq::QrFit;
 use crate::model::{Fit, FitError, Predict};
-use crate::stream::embed::Embedding;
+use crate::model::embed::Embedding;
 
 /// Linear-PSR configuration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -25,7 +25,7 @@ use super::baselines::check_series;
 use super::baselines::linear_psr::check_embedding;
 use super::{Fit, FitError, Predict};
 use crate::model::rng::SplitMix64;
-use crate::stream::embed::Embedding;
+use crate::model::embed::Embedding;
 use lm::{LmSettings, Rows};
 use net::Layout;
 

@@ -3,7 +3,7 @@
 //! the σ²-independent squared distances the kernel matrices are built from.
 //!
 //! Input vectors are rows of a row-major slice (`rows × dim`), as PSR rows are stored
-//! ([`crate::stream::embed::Embedded`]).
+//! ([`crate::model::embed::Embedded`]).
 
 use nalgebra::DMatrix;
 

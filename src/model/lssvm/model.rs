@@ -13,7 +13,7 @@ use super::kernel::sq_dist;
 use super::validate::check_hyper;
 use crate::model::baselines::linear_psr::check_embedding;
 use crate::model::{Fit, FitError, Predict};
-use crate::stream::embed::{Embedded, Embedding};
+use crate::model::embed::{Embedded, Embedding};
 
 /// A kernel expansion `f(x) = Σ_i coef_i · exp(−‖x − centre_i‖² / σ²) + bias`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -28,7 +28,7 @@ use super::model::{KernelExpansion, LssvmModel, embed_series};
 use super::prototypes::{PrototypeSelection, select_prototypes};
 use super::validate::{check_hyper, check_rows};
 use crate::model::{Fit, FitError};
-use crate::stream::embed::Embedding;
+use crate::model::embed::Embedding;
 
 /// Default relative tolerance of the pivoted Cholesky of the prototype kernel matrix: prototypes
 /// whose Nyström residual `K(z, z) − k̂(z, z)` is below it are dropped (cond(L) ≤ 10⁵).

@@ -19,7 +19,7 @@ use super::prototypes::{PrototypeSelection, select_prototypes};
 use crate::model::cpso::{CpsoConfig, CpsoHistory, minimize};
 use crate::model::snapshot::{ModelState, TunedLssvm};
 use crate::model::{Fit, FitError, Predict};
-use crate::stream::embed::Embedding;
+use crate::model::embed::Embedding;
 
 /// The objective CPSO minimises over (γ, σ²).
 #[derive(Debug, Clone, Copy, PartialEq)]

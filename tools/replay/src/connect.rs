@@ -3,7 +3,7 @@
 use std::time::{Duration, Instant};
 
 use gyrocomp::config::{Config, ConfigError, DomainChoice};
-use gyrocomp::stream::ipc::{CompSubscriber, Delivery, IpcDomain, IpcError, IpcNode, RawPublisher};
+use gyrocomp::ipc::{CompSubscriber, Delivery, IpcDomain, IpcError, IpcNode, RawPublisher};
 
 /// Why the client could not be set up.
 #[derive(Debug, thiserror::Error)]

@@ -6,7 +6,7 @@ use std::thread::JoinHandle;
 
 use gyrocomp::config::Config;
 use gyrocomp::daemon::{Daemon, DaemonError, RunSummary, Signals};
-use gyrocomp::stream::ipc::{IpcDomain, IpcError};
+use gyrocomp::ipc::{IpcDomain, IpcError};
 
 /// How the embedded daemon ended badly.
 #[derive(Debug, thiserror::Error)]

@@ -13,13 +13,10 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Parser, ValueEnum};
-use gyrocomp::cli::error_chain;
-use gyrocomp::config::RateSetting;
-use gyrocomp::cli::sim::write_sim_csv;
-use gyrocomp::daemon::run::load_config;
-use gyrocomp::io::{CompensatedCsvWriter, Recording};
+use gyrocomp::config::{Config, RateSetting};
+use gyrocomp::drive::{compensate_recording, error_chain, offline_config};
+use gyrocomp::io::{CompensatedCsvWriter, Recording, write_sim_csv};
 use gyrocomp::sim::{Generator, MotionKind, MotionPlan, Preset};
-use gyrocomp::stream::{compensate_recording, offline_config};
 use replay::{Client, EmbeddedDaemon, Pacing, ReplayOptions, Summary, replay};
 use tracing_subscriber::EnvFilter;
 
@@ -139,7 +136,7 @@ fn default_recording(rate_hz: f64) -> Result<(PathBuf, Vec<f64>, Vec<bool>), Box
 }
 
 fn run(args: &Args) -> Result<Summary, BoxError> {
-    let config = load_config(args.config.as_deref())?;
+    let config = Config::load(args.config.as_deref())?;
     let columns: Vec<&str> = args.columns.iter().map(String::as_str).collect();
     let (input, injected) = match &args.input {
         Some(path) => (path.clone(), None),

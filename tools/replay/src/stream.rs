@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 use gyrocomp::daemon::convert::{output_from_comp, raw_from_input};
 use gyrocomp::io::Recording;
 use gyrocomp::stream::OutputSample;
-use gyrocomp::stream::ipc::{CompSample, IpcError, prime};
+use gyrocomp::ipc::{CompSample, IpcError, prime};
 
 use crate::connect::Client;
 

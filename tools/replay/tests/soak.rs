@@ -23,10 +23,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use gyrocomp::cli::sim::write_sim_csv;
+use gyrocomp::io::write_sim_csv;
 use gyrocomp::config::Config;
 use gyrocomp::sim::{Generator, Preset};
-use gyrocomp::stream::ipc::{IpcDomain, IpcNode};
+use gyrocomp::ipc::{IpcDomain, IpcNode};
 use replay::EmbeddedDaemon;
 use serde_json::Value;
 

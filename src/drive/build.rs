@@ -2,8 +2,8 @@
 //! (docs/design.md "One pipeline, three drivers"): `gyrocompd`, `gyrocomp compensate` and, through
 //! the daemon, `replay`.
 
-use super::pipeline::{Pipeline, PipelineError};
-use super::retrain::Trainer;
+use crate::stream::pipeline::{Pipeline, PipelineError};
+use crate::stream::retrain::Trainer;
 use crate::config::{Config, ConfigError};
 
 /// Why a pipeline could not be built from a configuration.

@@ -11,8 +11,8 @@
 //! a replay through a daemon configured the same way — identical, bit for bit.
 
 use super::build::{BuildError, build_pipeline};
-use super::pipeline::{Pipeline, PipelineStats};
-use super::sample::{InputSample, OutputSample};
+use crate::stream::pipeline::{Pipeline, PipelineStats};
+use crate::stream::sample::{InputSample, OutputSample};
 use crate::config::Config;
 use crate::io::Recording;
 

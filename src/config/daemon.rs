@@ -1,0 +1,66 @@
+//! `[log]` and `[state]`: the daemon's log output and model snapshot directory.
+
+use std::path::PathBuf;
+
+use serde::Deserialize;
+
+use super::{Config, ConfigError};
+
+/// `[state]` keys (used by `gyrocompd`).
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct StateSection {
+    /// Directory of the model snapshot (an absolute path; empty = no snapshots).
+    pub dir: String,
+}
+
+/// `[log]` keys (used by `gyrocompd`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LogSection {
+    /// `text` (human-readable lines) or `json` (one JSON object per line).
+    pub format: String,
+    /// A `tracing` filter: a level (`error` … `trace`) or directives such as `info,iceoryx2=warn`.
+    pub level: String,
+}
+
+impl Default for LogSection {
+    fn default() -> Self {
+        Self { format: "text".into(), level: "info".into() }
+    }
+}
+
+/// Log line format of `[log] format`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogFormat {
+    /// Human-readable lines.
+    Text,
+    /// One JSON object per line.
+    Json,
+}
+
+impl Config {
+    /// The snapshot directory of `[state] dir`: `None` when empty (snapshots off), else an
+    /// absolute path.
+    pub fn state_dir(&self) -> Result<Option<PathBuf>, ConfigError> {
+        if self.state.dir.is_empty() {
+            return Ok(None);
+        }
+        let dir = PathBuf::from(&self.state.dir);
+        if !dir.is_absolute() {
+            return Err(ConfigError(format!("state.dir: {} is not an absolute path", dir.display())));
+        }
+        Ok(Some(dir))
+    }
+
+    /// The log format of `[log]`, after checking that `level` is a valid filter.
+    pub fn log_format(&self) -> Result<LogFormat, ConfigError> {
+        tracing_subscriber::EnvFilter::try_new(&self.log.level)
+            .map_err(|e| ConfigError(format!("log.level: {:?}: {e}", self.log.level)))?;
+        match self.log.format.as_str() {
+            "text" => Ok(LogFormat::Text),
+            "json" => Ok(LogFormat::Json),
+            other => Err(ConfigError(format!("log.format: {other:?} is neither \"text\" nor \"json\""))),
+        }
+    }
+}
