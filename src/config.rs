@@ -57,11 +57,19 @@ pub struct Config {
 }
 
 /// `[state]` keys (used by `gyrocompd`).
-#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct StateSection {
     /// Directory of the model snapshot (an absolute path; empty = no snapshots).
     pub dir: String,
+    /// Seconds between periodic snapshots (0 = only after model swaps and at a clean stop).
+    pub every_s: f64,
+}
+
+impl Default for StateSection {
+    fn default() -> Self {
+        Self { dir: String::new(), every_s: 30.0 }
+    }
 }
 
 /// `[ipc]` keys (used by `gyrocompd`).
@@ -258,11 +266,13 @@ pub struct InputSection {
     pub spike_z: f64,
     /// Longest run of outliers rejected as spikes (a longer run is a real change).
     pub spike_max_run: u32,
+    /// Seconds of one bit-identical value on an axis after which the sensor is stuck (0 = off).
+    pub stuck_s: f64,
 }
 
 impl Default for InputSection {
     fn default() -> Self {
-        Self { range_dps: 2000.0, rate_hz: RateSetting::Auto, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3 }
+        Self { range_dps: 2000.0, rate_hz: RateSetting::Auto, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3, stuck_s: 2.0 }
     }
 }
 
@@ -399,6 +409,7 @@ impl Config {
         self.ipc_domain()?;
         self.log_format()?;
         self.state_dir()?;
+        self.snapshot_every()?;
         Ok(())
     }
 
@@ -413,6 +424,15 @@ impl Config {
             return Err(ConfigError(format!("state.dir: {} is not an absolute path", dir.display())));
         }
         Ok(Some(dir))
+    }
+
+    /// The period of `[state] every_s` (`None`: 0, no periodic snapshots); 0 or 1 to 86400 s.
+    pub fn snapshot_every(&self) -> Result<Option<std::time::Duration>, ConfigError> {
+        match self.state.every_s {
+            0.0 => Ok(None),
+            s if (1.0..=86_400.0).contains(&s) => Ok(Some(std::time::Duration::from_secs_f64(s))),
+            s => Err(ConfigError(format!("state.every_s: {s} must be 0 (off) or lie in [1, 86400] s"))),
+        }
     }
 
     /// The embedding and the sizes that set memory use, against their limits (checked before
@@ -556,6 +576,9 @@ impl Config {
         if !(i.spike_z >= 0.0 && i.spike_z.is_finite()) || (i.spike_z > 0.0 && i.spike_z < 3.0) {
             return err(format!("input.spike_z: {} must be 0 (off) or a finite value of at least 3", i.spike_z));
         }
+        if !(i.stuck_s == 0.0 || (0.1..=3600.0).contains(&i.stuck_s)) {
+            return err(format!("input.stuck_s: {} must be 0 (off) or lie in [0.1, 3600] s", i.stuck_s));
+        }
         let r = &self.retrain;
         if !(0..=19).contains(&r.nice) {
             return err(format!("retrain.nice: {} is outside 0..=19", r.nice));
@@ -600,6 +623,7 @@ impl Config {
                 gap_factor: i.gap_factor,
                 spike_z: i.spike_z,
                 spike_max_run: i.spike_max_run,
+                stuck_s: i.stuck_s,
             },
             retrain: RetrainSchedule {
                 mode,

@@ -72,6 +72,18 @@ impl Setup {
         Self { domain, config, state, dir }
     }
 
+    /// The default drift path (Kalman tracker, statistical detector) with a snapshot a second.
+    fn default_path(tag: &str) -> Self {
+        let setup = Self::new(tag, false);
+        let text = std::fs::read_to_string(&setup.config).unwrap();
+        let text = text
+            .replace("[drift]\nestimator = \"cpso-lssvm\"\n[motion]\ndetector = \"threshold\"\n", "")
+            .replace("[state]\n", "[state]\nevery_s = 1.0\n");
+        assert!(!text.contains("cpso-lssvm") && text.contains("every_s"), "{text}");
+        std::fs::write(&setup.config, text).unwrap();
+        setup
+    }
+
     fn snapshot(&self) -> Option<Snapshot> {
         let bytes = std::fs::read(self.state.join(SNAPSHOT_FILE)).ok()?;
         Some(Snapshot::decode(&bytes).expect("a written snapshot decodes"))
@@ -240,6 +252,51 @@ fn sigkill_during_a_retrain_then_restart_resumes_from_the_snapshot() {
     while setup.snapshot().unwrap().model_version() < 2 {
         assert!(start.elapsed() < Duration::from_secs(10), "snapshot of version 2 not written");
         std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn the_default_kalman_daemon_writes_snapshots_and_a_restart_after_kill_9_uses_one() {
+    let setup = Setup::default_path("faultk");
+    let mut daemon = Daemon::start(&setup, 1);
+    let node = client(&setup.domain);
+    let raw = node.raw_publisher().unwrap();
+    let comp = node.comp_subscriber().unwrap();
+    let (first, mut seq) = prime_until(&raw, &comp, 0, Duration::from_secs(30));
+    // A cold start: nothing to subtract for the first sample.
+    assert_eq!(first.drift_dps, [0.0; 3]);
+    exchange(&raw, &comp, seq..seq + 400);
+    seq += 400;
+    // No model on this path, yet the periodic snapshot is written, with the pending samples.
+    let start = Instant::now();
+    let stored = loop {
+        if let Some(s) = setup.snapshot().filter(|s| s.stream.index >= seq) {
+            break s;
+        }
+        assert!(start.elapsed() < Duration::from_secs(20), "no snapshot of the Kalman path:\n{}", daemon.log_text());
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(stored.model_version(), 0);
+    assert!(stored.axes.iter().all(|a| a.model.is_none()));
+    assert!(stored.stream.pending.samples.len() >= 400, "{}", stored.stream.pending.samples.len());
+    assert!(!daemon.log_text().contains("snapshot not written"));
+    daemon.kill();
+
+    // The restarted daemon resumes from it: its first answer already subtracts the start-up
+    // mean of the stored pending samples (a cold one subtracts 0), and flags the samples the
+    // dead daemon never saw as a gap.
+    let daemon = Daemon::start(&setup, 2);
+    let (a, _) = prime_until(&raw, &comp, seq + 10, Duration::from_secs(30));
+    daemon.wait_log("model snapshot loaded", Duration::from_secs(5));
+    let n = stored.stream.pending.samples.len() as f64;
+    let mean: [f64; 3] = std::array::from_fn(|k| stored.stream.pending.samples.iter().map(|s| s.1[k]).sum::<f64>() / n);
+    // (Priming samples that reached it unanswered may have joined the pending mean: within 1e-3.)
+    for k in 0..3 {
+        assert!((a.drift_dps[k] - mean[k]).abs() < 1e-3, "axis {k}: {:?} vs {mean:?}", a.drift_dps);
+    }
+    assert!(a.drift_dps[0] > 0.015, "{a:?}");
+    if a.seq == seq + 10 {
+        assert!(a.status & gyrocomp::stream::STATUS_GAP != 0, "{a:?}");
     }
 }
 
