@@ -36,7 +36,8 @@
 //!   estimator as long as the detector's commit delay exceeds `stuck_s` (the statistical
 //!   detector's does, 62 s by default; the threshold gate commits at once). An axis that has not
 //!   changed since the first sample is taken as absent (a recording without that column), not
-//!   stuck. A real noisy MEMS gyro never repeats a value for seconds: the longest runs on the
+//!   stuck. The spike estimates, which the run's first seconds narrowed, start afresh. A real
+//!   noisy MEMS gyro never repeats a value for seconds: the longest runs on the
 //!   ADIS16405 recordings are a few samples (docs/design.md);
 //!
 //! A motion onset therefore shows as up to `spike_max_run` samples flagged "rejected" before the
@@ -323,6 +324,8 @@ impl InputCheck {
         }
         if stuck_since.is_some() {
             self.counters.stuck += 1;
+            // The run's first stuck_s seconds narrowed the spike estimates: they start afresh.
+            self.spikes = Default::default();
             return Verdict { status: status | STATUS_REJECTED | STATUS_SENSOR_FAULT, stuck_since };
         }
         if self.config.spike_z > 0.0 && !publisher_moving {
