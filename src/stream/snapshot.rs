@@ -576,7 +576,7 @@ mod tests {
         let bias = |a: u64| 0.1 * a as f64 + 0.02 * (k as f64 * 1e-3).sin();
         let turn = if turns.iter().any(|r| r.contains(&k)) { 20.0 } else { 0.0 };
         let mut s = InputSample::new(k, k * 100_000_000, [bias(0) + noise(0), bias(1) + noise(1), bias(2) + noise(2) + turn]);
-        s.temp_c = if k % 97 == 0 { f64::NAN } else { 25.0 + k as f64 * 1e-3 };
+        s.temp_c = if k.is_multiple_of(97) { f64::NAN } else { 25.0 + k as f64 * 1e-3 };
         s
     }
 
@@ -629,7 +629,7 @@ mod tests {
     #[test]
     fn a_restart_with_a_full_pending_queue_finds_the_next_motion_as_the_uninterrupted_run_does() {
         let c = default_config();
-        let turns = [2500..2540];
+        let turns = [2500..2540, 9000..9001]; // (the second lies past the end)
         let mut original = Pipeline::new(c.pipeline().unwrap()).unwrap();
         for k in 0..2000 {
             original.process(&moving_sample(k, &turns));

@@ -114,7 +114,7 @@ pub trait MotionDetector: fmt::Debug + Send {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum DetectorState {
     /// [`StatisticalDetector`].
-    Statistical(StatisticalState),
+    Statistical(Box<StatisticalState>),
     /// [`ThresholdDetector`].
     Threshold(ThresholdState),
 }

@@ -490,12 +490,12 @@ impl MotionDetector for StatisticalDetector {
     }
 
     fn state(&self) -> DetectorState {
-        DetectorState::Statistical(StatisticalState {
+        DetectorState::Statistical(Box::new(StatisticalState {
             rings: self.rings.clone(),
             since_alarm: self.since_alarm,
             moving: self.moving,
             stuck: self.stuck.clone(),
-        })
+        }))
     }
 
     fn restore_state(&mut self, state: &DetectorState) -> Result<(), String> {
