@@ -72,6 +72,18 @@ impl Setup {
         Self { domain, config, state, dir }
     }
 
+    /// The default drift path (Kalman tracker, statistical detector) with a snapshot a second.
+    fn default_path(tag: &str) -> Self {
+        let setup = Self::new(tag, false);
+        let text = std::fs::read_to_string(&setup.config).unwrap();
+        let text = text
+            .replace("[drift]\nestimator = \"cpso-lssvm\"\n[motion]\ndetector = \"threshold\"\n", "")
+            .replace("[state]\n", "[state]\nevery_s = 1.0\n");
+        assert!(!text.contains("cpso-lssvm") && text.contains("every_s"), "{text}");
+        std::fs::write(&setup.config, text).unwrap();
+        setup
+    }
+
     fn snapshot(&self) -> Option<Snapshot> {
         let bytes = std::fs::read(self.state.join(SNAPSHOT_FILE)).ok()?;
         Some(Snapshot::decode(&bytes).expect("a written snapshot decodes"))
@@ -158,6 +170,54 @@ fn sigkill_during_a_retrain_then_restart_resumes_from_the_snapshot() {
     while setup.snapshot().unwrap().model_version() < 2 {
         assert!(start.elapsed() < Duration::from_secs(10), "snapshot of version 2 not written");
         std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn the_default_kalman_daemon_writes_snapshots_and_a_restart_after_kill_9_uses_one() {
+    let setup = Setup::default_path("faultk");
+    let mut daemon = start_daemon(&setup, 1);
+    let node = client(&setup.domain);
+    let raw = node.raw_publisher().unwrap();
+    let comp = node.comp_subscriber().unwrap();
+    let (first, mut seq) = prime_until(&raw, &comp, 0, Duration::from_secs(30));
+    // A cold start: nothing to subtract for the first sample.
+    assert_eq!(first.drift_dps, [0.0; 3]);
+    exchange(&raw, &comp, seq..seq + 400);
+    seq += 400;
+    // No model on this path, yet the periodic snapshot is written, with the pending samples.
+    let start = Instant::now();
+    let stored = loop {
+        if let Some(s) = setup.snapshot().filter(|s| s.stream.index >= seq) {
+            break s;
+        }
+        assert!(start.elapsed() < Duration::from_secs(20), "no snapshot of the Kalman path:\n{}", daemon.log_text());
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(stored.model_version(), 0);
+    assert!(stored.axes.iter().all(|a| a.model.is_none()));
+    assert!(!daemon.log_text().contains("snapshot not written"));
+    daemon.kill9();
+
+    // The restarted daemon resumes from it: its first answer is what a pipeline restored from
+    // the stored snapshot gives, not what a cold one gives.
+    let daemon = start_daemon(&setup, 2);
+    let (a, _) = prime_until(&raw, &comp, seq + 10, Duration::from_secs(30));
+    daemon.wait_log("model snapshot loaded", Duration::from_secs(5));
+    let config = gyrocomp::config::Config::from_toml(&std::fs::read_to_string(&setup.config).unwrap(), "test").unwrap();
+    let mut p = gyrocomp::stream::Pipeline::new(config.pipeline().unwrap()).unwrap();
+    stored.restore_into(&mut p).unwrap();
+    let r = sample(a.seq);
+    let input = gyrocomp::stream::InputSample { seq: r.seq, t_ns: r.t_ns, rate_dps: r.rate_dps, temp_c: r.temp_c, flags: r.flags };
+    let want = p.process(&input);
+    // The restored state decides (here: the detector's verdict held from before the kill).
+    let cold = gyrocomp::stream::Pipeline::new(config.pipeline().unwrap()).unwrap().process(&input);
+    assert_ne!((cold.status, cold.drift_dps), (want.status, want.drift_dps), "{cold:?} {want:?}");
+    if a.seq == seq + 10 {
+        // The first priming sample reached it: exactly the restored pipeline's answer, flagged
+        // as a gap (the samples the dead daemon never saw).
+        assert_eq!((a.drift_dps, a.status), (want.drift_dps, want.status));
+        assert!(a.status & gyrocomp::stream::STATUS_GAP != 0, "{a:?}");
     }
 }
 

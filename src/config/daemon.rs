@@ -7,11 +7,19 @@ use serde::Deserialize;
 use super::{Config, ConfigError};
 
 /// `[state]` keys (used by `gyrocompd`).
-#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct StateSection {
     /// Directory of the model snapshot (an absolute path; empty = no snapshots).
     pub dir: String,
+    /// Seconds between periodic snapshots (0 = only after model swaps and at a clean stop).
+    pub every_s: f64,
+}
+
+impl Default for StateSection {
+    fn default() -> Self {
+        Self { dir: String::new(), every_s: 30.0 }
+    }
 }
 
 /// `[log]` keys (used by `gyrocompd`).
@@ -51,6 +59,15 @@ impl Config {
             return Err(ConfigError(format!("state.dir: {} is not an absolute path", dir.display())));
         }
         Ok(Some(dir))
+    }
+
+    /// The period of `[state] every_s` (`None`: 0, no periodic snapshots); 0 or 1 to 86400 s.
+    pub fn snapshot_every(&self) -> Result<Option<std::time::Duration>, ConfigError> {
+        match self.state.every_s {
+            0.0 => Ok(None),
+            s if (1.0..=86_400.0).contains(&s) => Ok(Some(std::time::Duration::from_secs_f64(s))),
+            s => Err(ConfigError(format!("state.every_s: {s} must be 0 (off) or lie in [1, 86400] s"))),
+        }
     }
 
     /// The log format of `[log]`, after checking that `level` is a valid filter.

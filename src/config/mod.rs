@@ -110,6 +110,7 @@ impl Config {
         self.ipc_domain()?;
         self.log_format()?;
         self.state_dir()?;
+        self.snapshot_every()?;
         Ok(())
     }
 

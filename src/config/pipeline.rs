@@ -133,11 +133,13 @@ pub struct InputSection {
     pub spike_z: f64,
     /// Longest run of outliers rejected as spikes (a longer run is a real change).
     pub spike_max_run: u32,
+    /// Seconds of one bit-identical value on an axis after which the sensor is stuck (0 = off).
+    pub stuck_s: f64,
 }
 
 impl Default for InputSection {
     fn default() -> Self {
-        Self { range_dps: 2000.0, rate_hz: RateSetting::Auto, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3 }
+        Self { range_dps: 2000.0, rate_hz: RateSetting::Auto, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3, stuck_s: 2.0 }
     }
 }
 
@@ -283,6 +285,9 @@ impl Config {
         if !(i.spike_z >= 0.0 && i.spike_z.is_finite()) || (i.spike_z > 0.0 && i.spike_z < 3.0) {
             return err(format!("input.spike_z: {} must be 0 (off) or a finite value of at least 3", i.spike_z));
         }
+        if !(i.stuck_s == 0.0 || (0.1..=3600.0).contains(&i.stuck_s)) {
+            return err(format!("input.stuck_s: {} must be 0 (off) or lie in [0.1, 3600] s", i.stuck_s));
+        }
         let r = &self.retrain;
         if !(0..=19).contains(&r.nice) {
             return err(format!("retrain.nice: {} is outside 0..=19", r.nice));
@@ -327,6 +332,7 @@ impl Config {
                 gap_factor: i.gap_factor,
                 spike_z: i.spike_z,
                 spike_max_run: i.spike_max_run,
+                stuck_s: i.stuck_s,
             },
             retrain: RetrainSchedule {
                 mode,

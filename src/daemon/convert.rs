@@ -100,6 +100,9 @@ pub fn status_sample(
         detector_alarms: stats.detector.alarms,
         committed: stats.committed,
         discarded: stats.discarded,
+        stuck: stats.input.stuck,
+        saturated: stats.input.saturated,
+        bad_temperature: stats.input.bad_temperature,
     }
 }
 

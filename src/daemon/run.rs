@@ -4,8 +4,9 @@
 //! driver), warm-started from the model snapshot of `[state] dir` when there is a compatible one
 //! ([`super::state`]) → iceoryx2 node (stale resources of dead nodes, e.g. a killed earlier
 //! daemon, are cleaned first) and ports (opened or created, so clients may start first) → a
-//! `Started` status. After each model swap the snapshot writer thread is handed the new models
-//! (never blocking the loop). Loop: wait for raw samples (event or spin, `[ipc] wait`), answer
+//! `Started` status. After each model swap, every `[state] every_s` seconds and at a clean stop
+//! the snapshot writer thread is handed the models and the pipeline state (never blocking the
+//! loop). Loop: wait for raw samples (event or spin, `[ipc] wait`), answer
 //! each with exactly one `CompSample` of the same `seq` (listeners woken once per burst), publish a
 //! `Periodic` status every second and a `ModelSwapped`/`RetrainFailed` status when those counters
 //! move. Between samples, SIGHUP reloads the configuration ([`super::reload`]) and SIGTERM/SIGINT
@@ -156,6 +157,9 @@ struct Worker {
     /// The snapshot writer (`[state] dir` set) and the settings snapshots depend on.
     snapshots: Option<SnapshotWriter>,
     compat: Compat,
+    /// `[state] every_s` and when the last snapshot was handed to the writer.
+    snapshot_every: Option<Duration>,
+    last_snapshot: Instant,
     last_cleanup: Option<Instant>,
     comp: CompPublisher,
     status: StatusPublisher,
@@ -234,6 +238,8 @@ impl Daemon {
             node,
             snapshots,
             compat,
+            snapshot_every: self.config.snapshot_every()?,
+            last_snapshot: Instant::now(),
             last_cleanup: None,
             counters: LoopCounters::default(),
             started: Instant::now(),
@@ -290,7 +296,8 @@ impl Daemon {
             send_failures: worker.counters.send_failures,
             model_version: worker.pipeline.model_version(),
         };
-        // Lets the writer finish the snapshot it may be writing.
+        // A last snapshot of the state at the stop; the writer finishes it before it ends.
+        worker.snapshot();
         drop(worker.snapshots.take());
         tracing::info!(drained = summary.samples_in - before, ?summary, "gyrocompd stopped");
         Ok(summary)
@@ -409,7 +416,8 @@ impl Worker {
         let Some(writer) = &mut self.snapshots else { return };
         let p = &self.pipeline;
         let models = [0, 1, 2].map(|axis| p.model_slot(axis).and_then(|slot| (*slot.load()).clone()));
-        writer.offer(SnapshotJob { compat: self.compat.clone(), models, warm: p.warm_state() });
+        writer.offer(SnapshotJob { compat: self.compat.clone(), models, warm: p.warm_state(), stream: p.stream_state() });
+        self.last_snapshot = Instant::now();
     }
 
     /// A failed send may mean a client died with a full buffer: a lossless publisher then waits
@@ -429,6 +437,9 @@ impl Worker {
     fn tick(&mut self) {
         if let Some(writer) = &mut self.snapshots {
             writer.flush();
+        }
+        if self.snapshot_every.is_some_and(|every| self.last_snapshot.elapsed() >= every) {
+            self.snapshot();
         }
         if self.last_report.elapsed() >= STATUS_PERIOD {
             self.report(StatusEvent::Periodic);

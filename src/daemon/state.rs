@@ -1,5 +1,7 @@
-//! The daemon's state directory (`[state] dir`): the model snapshot file, written after each
-//! successful retrain by a writer thread and read once at start.
+//! The daemon's state directory (`[state] dir`): the snapshot file (models, estimator, detector
+//! and input-check state: [`crate::stream::snapshot`]), written by a writer thread after each
+//! successful retrain, every `[state] every_s` seconds and at a clean stop, and read once at
+//! start.
 //!
 //! Writing is atomic: the bytes go to a temporary file in the same directory, which is synced
 //! and renamed over the snapshot, and the directory is synced; a crash at any moment leaves
@@ -16,7 +18,7 @@ use std::thread::JoinHandle;
 use crossbeam_channel::{Sender, TrySendError, bounded};
 
 use crate::stream::InstalledModel;
-use crate::stream::snapshot::{AxisWarm, Compat, Snapshot, SnapshotError};
+use crate::stream::snapshot::{AxisWarm, Compat, Snapshot, SnapshotError, StreamWarm};
 
 /// File name of the snapshot inside the state directory.
 pub const SNAPSHOT_FILE: &str = "gyrocompd.snapshot";
@@ -85,6 +87,8 @@ pub struct SnapshotJob {
     pub models: [Option<Arc<InstalledModel>>; 3],
     /// The warm state of each axis.
     pub warm: [AxisWarm; 3],
+    /// The state the axes share (detector, pending queue, input checks).
+    pub stream: StreamWarm,
 }
 
 /// The writer thread; dropping it lets the thread finish the queued job and joins it.
@@ -144,7 +148,7 @@ impl Drop for SnapshotWriter {
 
 fn write_job(path: &Path, job: SnapshotJob) {
     let started = std::time::Instant::now();
-    let snapshot = match Snapshot::capture(job.compat, job.models, job.warm) {
+    let snapshot = match Snapshot::capture(job.compat, job.models, job.warm, job.stream) {
         Ok(s) => s,
         Err(e) => {
             tracing::warn!(file = %path.display(), error = %e, "snapshot not written");
@@ -192,5 +196,42 @@ mod tests {
         let err = read_snapshot(&path).unwrap_err();
         assert!(matches!(err, StateError::Snapshot { source: SnapshotError::BadMagic, .. }), "{err}");
         assert!(err.to_string().contains(SNAPSHOT_FILE), "{err}");
+    }
+
+    /// A real snapshot of a default (Kalman) pipeline after `n` samples.
+    fn snapshot_bytes(n: u64) -> (Snapshot, Vec<u8>) {
+        let mut c = crate::config::Config::default();
+        c.input.rate_hz = crate::config::RateSetting::Hz(100.0);
+        let mut p = crate::stream::Pipeline::new(c.pipeline().unwrap()).unwrap();
+        for k in 0..n {
+            let x = 0.01 * ((k * 7919) % 13) as f64;
+            p.process(&crate::stream::InputSample::new(k, k * 10_000_000, [x, -x, 0.5 * x]));
+        }
+        let s = Snapshot::of_pipeline(&p).unwrap();
+        let bytes = s.encode().unwrap();
+        (s, bytes)
+    }
+
+    #[test]
+    fn a_write_killed_half_way_leaves_the_previous_snapshot_usable() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(SNAPSHOT_FILE);
+        let (first, bytes) = snapshot_bytes(300);
+        write_atomic(&path, &bytes).unwrap();
+        // kill -9 while the next one was being written: its temporary file is left truncated
+        // (the rename never happened).
+        let (second, newer) = snapshot_bytes(600);
+        std::fs::write(dir.path().join(TEMP_FILE), &newer[..newer.len() / 2]).unwrap();
+        // (Compared as bytes: pending temperatures are NaN, "none".)
+        let encoded = |s: Option<Snapshot>| s.unwrap().encode().unwrap();
+        assert_eq!(encoded(read_snapshot(&path).unwrap()), bytes, "the previous snapshot is read");
+        // The truncated file itself would be refused, never half-used.
+        let half = std::fs::read(dir.path().join(TEMP_FILE)).unwrap();
+        assert!(matches!(Snapshot::decode(&half), Err(SnapshotError::Truncated { .. })));
+        // The restarted daemon's next write replaces the leftover and the snapshot.
+        write_atomic(&path, &newer).unwrap();
+        assert_eq!(encoded(read_snapshot(&path).unwrap()), second.encode().unwrap());
+        assert!(!dir.path().join(TEMP_FILE).exists());
+        assert_eq!((first.stream.index, second.stream.index), (300, 600));
     }
 }

@@ -125,10 +125,10 @@ impl StatusEvent {
     }
 }
 
-/// Model events and counters, on the `gyrocomp/status` service (192 bytes).
+/// Model events and counters, on the `gyrocomp/status` service (216 bytes).
 /// Counters are totals since the daemon started.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
-#[type_name("gyrocomp::StatusSample.v2")]
+#[type_name("gyrocomp::StatusSample.v3")]
 #[repr(C)]
 pub struct StatusSample {
     /// Time of this report in nanoseconds (daemon's monotonic clock since start).
@@ -179,8 +179,15 @@ pub struct StatusSample {
     pub detector_alarms: u64,
     /// Static samples committed to the drift estimators (delayed commit).
     pub committed: u64,
-    /// Pending static samples discarded as the lead-in of a detected motion.
+    /// Pending static samples discarded as the lead-in of a detected motion (or of a stuck run).
     pub discarded: u64,
+    /// Rejected because an axis was stuck, one value repeated for `input.stuck_s` (part of
+    /// `rejected`; status bit 4).
+    pub stuck: u64,
+    /// Rejected because an axis was saturated at `input.range_dps` (part of `rejected`; bit 4).
+    pub saturated: u64,
+    /// Temperatures ignored as ±∞ or implausible (the samples themselves were used).
+    pub bad_temperature: u64,
 }
 
 // Layout checks: the byte counts are part of the wire contract (docs/design.md).
@@ -189,6 +196,6 @@ const _: () = {
     assert!(align_of::<RawSample>() == 8);
     assert!(size_of::<CompSample>() == 104);
     assert!(align_of::<CompSample>() == 8);
-    assert!(size_of::<StatusSample>() == 192);
+    assert!(size_of::<StatusSample>() == 216);
     assert!(align_of::<StatusSample>() == 8);
 };

@@ -53,6 +53,25 @@ impl MotionGate {
         }
     }
 
+    /// The samples in each axis' variance window, oldest first (for a snapshot).
+    pub fn windows(&self) -> [Vec<f64>; 3] {
+        self.rings.each_ref().map(|r| r.as_slice().to_vec())
+    }
+
+    /// Refills the variance windows with what [`MotionGate::windows`] copied; refused (nothing
+    /// changed) when a window holds more samples than `window`.
+    pub fn refill(&mut self, windows: &[Vec<f64>; 3]) -> Result<(), String> {
+        let cap = self.rings[0].capacity();
+        if let Some(w) = windows.iter().find(|w| w.len() > cap) {
+            return Err(format!("motion.window: {} samples stored, the window holds {cap}", w.len()));
+        }
+        for (ring, w) in self.rings.iter_mut().zip(windows) {
+            ring.clear();
+            w.iter().for_each(|&x| ring.push(x));
+        }
+        Ok(())
+    }
+
     /// Adds an accepted (finite, in-range) sample and returns whether it is moving; the rate
     /// test compares `rate_dps − reference` (skipped without a reference).
     pub fn push(&mut self, rate_dps: &[f64; 3], reference: Option<&[f64; 3]>, flagged_moving: bool) -> bool {

@@ -2,7 +2,29 @@
 //! confirmed, oldest first, with the running sum of each axis (for the estimators' provisional
 //! use, [`PendingMean`]). A ring allocated once for the detector's commit delay.
 
+use serde::{Deserialize, Serialize};
+
 use super::drift::PendingMean;
+
+/// The pending queue in a snapshot: the samples oldest first (index, rates, temperature) and the
+/// running sums exactly as the queue holds them (a sum rebuilt from the samples could differ in
+/// the last bit).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PendingState {
+    /// Sample index, raw rates (deg/s) and temperature (°C, NaN: none), oldest first.
+    pub samples: Vec<(u64, [f64; 3], f64)>,
+    /// Running sum of each axis.
+    pub sum: [f64; 3],
+}
+
+impl PendingState {
+    /// Whether the rates and sums are finite and the temperatures finite or NaN (none).
+    pub fn is_valid(&self) -> bool {
+        self.sum.iter().all(|v| v.is_finite())
+            && self.samples.iter().all(|(_, r, t)| r.iter().all(|v| v.is_finite()) && !t.is_infinite())
+            && self.samples.windows(2).all(|w| w[0].0 < w[1].0)
+    }
+}
 
 /// Pending static samples (module documentation).
 #[derive(Debug, Clone)]
@@ -76,6 +98,43 @@ impl PendingQueue {
         self.len -= 1;
         self.subtract(&out.1);
         Some(out)
+    }
+
+    /// A copy of the pending samples and sums, for a snapshot.
+    pub fn state(&self) -> PendingState {
+        let cap = self.index.len();
+        let samples = (0..self.len)
+            .map(|j| {
+                let i = (self.head + j) % cap;
+                (self.index[i], self.rate[i], self.temp[i])
+            })
+            .collect();
+        PendingState { samples, sum: self.sum }
+    }
+
+    /// Replaces the content with what [`PendingQueue::state`] copied; refused (nothing changed)
+    /// when it holds more samples than the queue's delay.
+    pub fn restore(&mut self, state: &PendingState) -> Result<(), String> {
+        let cap = self.index.len();
+        if state.samples.len() >= cap {
+            return Err(format!("{} pending samples stored, the commit delay holds {}", state.samples.len(), cap - 1));
+        }
+        (self.head, self.len) = (0, 0);
+        for &(i, r, t) in &state.samples {
+            self.push(i, r, t);
+        }
+        self.sum = state.sum;
+        Ok(())
+    }
+
+    /// Drops the pending samples of index `from` or later (the newest ones); returns how many.
+    pub fn drop_from(&mut self, from: u64) -> usize {
+        let cap = self.index.len();
+        let mut n = 0;
+        while self.len > n && self.index[(self.head + self.len - 1 - n) % cap] >= from {
+            n += 1;
+        }
+        self.drop_newest(n)
     }
 
     /// Drops the newest `n` samples (fewer when fewer are pending); returns how many.

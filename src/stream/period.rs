@@ -5,8 +5,8 @@
 /// Timestamp steps the automatic period is the median of.
 pub const AUTO_STEPS: usize = 9;
 
-/// Known or being measured (module documentation).
-#[derive(Debug, Clone)]
+/// Known or being measured (module documentation); a snapshot carries it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PeriodEstimate {
     period_ns: Option<u64>,
     steps: [u64; AUTO_STEPS],

@@ -23,7 +23,9 @@
 //!   committed; the horizon counts samples since the last static one. The static series is
 //!   concatenated across motion.
 //! - **Rejected sample** (status bit 2; see [`InputCheck`] for the tests: duplicate `seq`, time
-//!   going backwards, NaN/Inf or |rate| > `input.range_dps` on any axis, robust spike test):
+//!   going backwards, NaN/Inf or |rate| > `input.range_dps` on any axis, robust spike test, and
+//!   the sensor faults of status bit 4 — saturation at the range, an axis stuck on one value for
+//!   `input.stuck_s`, whose run's pending samples are discarded as well):
 //!   enters no buffer — not the pending queue, the estimator, the calibration, the detector or
 //!   the spike estimates. The best safe output, per axis: a finite in-range rate minus the
 //!   current (held) drift, as for a moving sample; a bad rate is replaced by the last accepted
@@ -32,6 +34,12 @@
 //!   bit 3): flagged and counted; the buffers are kept, i.e. the static series is concatenated
 //!   across the gap like across motion (drift is slow; only PSR rows straddling the seam are
 //!   affected).
+//!
+//! - **Temperature** ±∞ or implausible: ignored for the sample (taken as none), counted.
+//!
+//! Snapshots ([`Pipeline::warm_state`], [`Pipeline::stream_state`], [`Pipeline::restore_state`]):
+//! a pipeline restored before its first sample continues the stored sample index and gives the
+//! output the stored one would have given.
 //!
 //! Retraining: see [`RetrainSchedule`]. Requests are made after sample index i when due, with
 //! snapshots of the training windows; in deterministic mode the result is installed right before
@@ -62,7 +70,7 @@ use super::pending::PendingQueue;
 use super::period::PeriodEstimate;
 use super::retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
 use super::sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED};
-use super::snapshot::AxisWarm;
+use super::snapshot::{AxisWarm, StreamWarm};
 use crate::model::scaler::MinMaxScaler;
 
 /// The shortest τ\* a drift estimator may track at, as a fraction of the detector's longest
@@ -213,6 +221,8 @@ pub struct Pipeline {
     check: InputCheck,
     /// Samples since the last accepted static sample (0 while static).
     horizon: u64,
+    /// Index of the first sample processed (0; a restored snapshot's sample index).
+    first_index: u64,
     next_version: u64,
     stats: PipelineStats,
     trainer: Option<Trainer>,
@@ -260,6 +270,7 @@ impl Pipeline {
             axes,
             config,
             horizon: 0,
+            first_index: 0,
             next_version: 1,
             stats: PipelineStats::default(),
             trainer: None,
@@ -388,31 +399,88 @@ impl Pipeline {
     }
 
     /// Copies of each axis' buffers (denoiser window, static history) and running values (bias
-    /// estimate, held drift), for a snapshot: see [`crate::stream::snapshot`].
+    /// estimate and its variance, temperature term, self-calibration, held drift), for a
+    /// snapshot: see [`crate::stream::snapshot`].
     pub fn warm_state(&self) -> [AxisWarm; 3] {
         std::array::from_fn(|k| {
             let a = &self.axes[k];
-            let mut w = AxisWarm { drift: a.drift, comp: a.comp, noise: self.noise[k].clone(), ..AxisWarm::default() };
+            let mut w = AxisWarm {
+                drift: a.drift,
+                comp: a.comp,
+                from_model: a.from_model,
+                drift_std: a.std,
+                noise: self.noise[k].clone(),
+                ..AxisWarm::default()
+            };
             a.estimator.warm(&mut w);
             w
         })
     }
 
-    /// Restores what [`Pipeline::warm_state`] copied (models are installed separately with
-    /// [`Pipeline::install_model`]); refused, with nothing changed, when a value is not finite.
-    pub fn restore_warm_state(&mut self, warm: &[AxisWarm; 3]) -> Result<(), PipelineError> {
-        if let Some(axis) = warm.iter().position(|w| !w.is_finite()) {
-            return Err(PipelineError::Config(format!("warm state of axis {axis} holds a non-finite value")));
+    /// A copy of the state shared by the axes (sample index, period, pending queue, detector,
+    /// input checks), for a snapshot.
+    pub fn stream_state(&self) -> StreamWarm {
+        StreamWarm {
+            index: self.first_index + self.stats.samples,
+            period: self.period.clone(),
+            horizon: self.horizon,
+            pending: self.queue.state(),
+            detector: self.detector.state(),
+            input: self.check.state(),
         }
+    }
+
+    /// Restores what [`Pipeline::warm_state`] and [`Pipeline::stream_state`] copied into a
+    /// pipeline that has processed no sample (models are installed separately with
+    /// [`Pipeline::install_model`]): the next sample continues the stored sample index, so the
+    /// restored pipeline gives the output the stored one would have given (the first sample
+    /// after a restart is flagged as a gap when `seq` or time skipped while it was down).
+    /// Refused when a value is not finite or the stored detector, period or windows do not
+    /// fit this configuration; the checks that need the sized windows run part-way, so on an
+    /// error the pipeline must be rebuilt ([`Snapshot::restore_into`](crate::stream::snapshot::Snapshot::restore_into)
+    /// tries a scratch pipeline first and leaves its target unchanged).
+    pub fn restore_state(&mut self, warm: &[AxisWarm; 3], stream: &StreamWarm) -> Result<(), PipelineError> {
+        let bad = |m: String| Err(PipelineError::Config(m));
+        if let Some(axis) = warm.iter().position(|w| !w.is_finite()) {
+            return bad(format!("warm state of axis {axis} holds a non-finite value"));
+        }
+        if !stream.is_valid() {
+            return bad("the stored pending samples, detector or input state hold a non-finite value".into());
+        }
+        if stream.detector.kind() != self.config.detector {
+            return bad(format!(
+                "motion.detector: the snapshot holds a {} detector's state, the pipeline runs {}",
+                stream.detector.kind().name(),
+                self.config.detector.name()
+            ));
+        }
+        if self.stats.samples > 0 {
+            return bad("a snapshot is restored before the first sample only".into());
+        }
+        match (self.period.period_s(), stream.period.period_s()) {
+            (Some(now), Some(stored)) if now != stored => {
+                return bad(format!("input.rate_hz: period {stored} s stored, {now} s running"));
+            }
+            (None, Some(t)) => {
+                self.period = stream.period.clone();
+                let period_ns = (t * 1e9).round() as u64;
+                let input = InputConfig { period_ns, ..*self.check.config() };
+                self.check.reconfigure(input);
+                self.apply_period(t);
+            }
+            (None, None) => self.period = stream.period.clone(),
+            _ => {}
+        }
+        self.detector.restore_state(&stream.detector).map_err(PipelineError::Config)?;
+        self.queue.restore(&stream.pending).map_err(PipelineError::Config)?;
         for ((a, w), noise) in self.axes.iter_mut().zip(warm).zip(&mut self.noise) {
             a.estimator.restore(w);
-            a.drift = w.drift;
-            a.comp = w.comp;
+            (a.drift, a.comp, a.from_model, a.std) = (w.drift, w.comp, w.from_model, w.drift_std);
             *noise = w.noise.clone();
-            // The restored pipeline counts its samples from 0 again: the next commit continues
-            // the blocks in progress (as the running pipeline would, had it not stopped).
-            noise.forget_position();
         }
+        self.check.restore(&stream.input);
+        self.horizon = stream.horizon;
+        self.first_index = stream.index;
         Ok(())
     }
 
@@ -441,15 +509,19 @@ impl Pipeline {
 
     fn compensate(&mut self, input: &InputSample) -> OutputSample {
         let publisher_moving = input.flags & FLAG_MOVING != 0;
-        let verdict = self.check.check(input.seq, input.t_ns, &input.rate_dps, publisher_moving);
+        let index = self.first_index + self.stats.samples;
+        let verdict = self.check.check(index, input.seq, input.t_ns, &input.rate_dps, publisher_moving);
         let mut status = verdict.status;
         let mut rate = [0.0; 3];
         let mut drift = [0.0; 3];
         let mut drift_std = [f64::INFINITY; 3];
-        let index = self.stats.samples;
         if verdict.rejected() {
             status |= STATUS_REJECTED;
             self.stats.rejected += 1;
+            if let Some(from) = verdict.stuck_since {
+                // A stuck sensor: what it sent since the run began must never be learnt.
+                self.stats.discarded += self.queue.drop_from(from) as u64;
+            }
             self.horizon += 1;
             for (k, a) in self.axes.iter().enumerate() {
                 let r = input.rate_dps[k];
@@ -461,8 +533,10 @@ impl Pipeline {
                 }
             }
         } else {
+            // ±∞ or implausible temperatures are ignored (counted): they never reach the estimators.
+            let temp_c = self.check.temperature(input.temp_c);
             self.observe_time(input.t_ns);
-            let estimates = self.predict(index, &input.rate_dps, input.temp_c);
+            let estimates = self.predict(index, &input.rate_dps, temp_c);
             let decision = self.detector.push(&DetectorInput {
                 rate: &input.rate_dps,
                 drift: &estimates,
@@ -480,7 +554,7 @@ impl Pipeline {
             for (k, a) in self.axes.iter_mut().enumerate() {
                 let e = if decision.moving {
                     // Commits may have set another sample's temperature since the prediction.
-                    a.estimator.set_temperature(input.temp_c);
+                    a.estimator.set_temperature(temp_c);
                     a.estimator.predict_moving(index, self.queue.mean(k), &self.noise[k])
                 } else {
                     estimates[k]
@@ -494,7 +568,7 @@ impl Pipeline {
                 }
             }
             if !decision.moving {
-                self.queue.push(index, input.rate_dps, input.temp_c);
+                self.queue.push(index, input.rate_dps, temp_c);
                 while self.queue.len() > self.detector.commit_delay() {
                     let Some((i, r, t)) = self.queue.pop_oldest() else { break };
                     self.commit(i, &r, t);

@@ -17,6 +17,10 @@ pub const STATUS_MOVING: u32 = 1 << 1;
 pub const STATUS_REJECTED: u32 = 1 << 2;
 /// `status` bit 3: a time gap (or a backwards time step) precedes this sample.
 pub const STATUS_GAP: u32 = 1 << 3;
+/// `status` bit 4: a sensor fault — an axis is saturated (at `input.range_dps`) or stuck (one
+/// value repeated for `input.stuck_s`); always with [`STATUS_REJECTED`]: the sample entered no
+/// buffer and the stuck run's pending samples were discarded.
+pub const STATUS_SENSOR_FAULT: u32 = 1 << 4;
 
 /// One raw three-axis gyro sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,7 +31,8 @@ pub struct InputSample {
     pub t_ns: u64,
     /// Angular rates x, y, z, deg/s.
     pub rate_dps: [f64; 3],
-    /// Temperature, °C (NaN = none). Carried through; the current drift models do not use it.
+    /// Temperature, °C (NaN = none): the Kalman tracker's temperature term uses it; ±∞ or an
+    /// implausible value is ignored (taken as none) and counted.
     pub temp_c: f64,
     /// Publisher flags ([`FLAG_MOVING`]).
     pub flags: u32,
@@ -46,7 +51,8 @@ pub struct OutputSample {
     pub drift_dps: [f64; 3],
     /// Version of the newest installed model (0 = none yet).
     pub model_version: u64,
-    /// Status bits ([`STATUS_NO_MODEL`], [`STATUS_MOVING`], [`STATUS_REJECTED`], [`STATUS_GAP`]).
+    /// Status bits ([`STATUS_NO_MODEL`], [`STATUS_MOVING`], [`STATUS_REJECTED`], [`STATUS_GAP`],
+    /// [`STATUS_SENSOR_FAULT`]).
     pub status: u32,
     /// Standard deviation of the drift estimate per axis, deg/s (+∞ while unknown).
     pub drift_std_dps: [f64; 3],

@@ -28,8 +28,12 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::calibration::NoiseCalibration;
+use super::detector::DetectorState;
+use super::input_check::InputState;
 use crate::model::embed::Embedding;
 use super::model_slot::InstalledModel;
+use super::pending::PendingState;
+use super::period::PeriodEstimate;
 use super::pipeline::{Pipeline, PipelineConfig};
 use crate::model::Predict;
 use crate::model::scaler::MinMaxScaler;
@@ -38,7 +42,7 @@ use crate::model::snapshot::ModelState;
 /// First bytes of every snapshot.
 pub const MAGIC: [u8; 8] = *b"GYROSNAP";
 /// Version of the layout and payload written by this build (the only one it reads).
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 /// Largest payload accepted, bytes (a 1,000,000-sample history of three axes is 24 MB).
 pub const MAX_PAYLOAD: usize = 256 << 20;
 /// Bytes before the payload.
@@ -62,6 +66,8 @@ pub struct Compat {
     pub period_ns: u64,
     /// `drift.estimator`.
     pub estimator: String,
+    /// `motion.detector`.
+    pub detector: String,
 }
 
 impl Compat {
@@ -75,6 +81,7 @@ impl Compat {
             embedding: config.embedding,
             period_ns: config.input.period_ns,
             estimator: config.drift.kind.name().to_owned(),
+            detector: config.detector.name().to_owned(),
         }
     }
 
@@ -94,6 +101,7 @@ impl Compat {
         cmp("embedding.dim", self.embedding.dim.to_string(), running.embedding.dim.to_string());
         cmp("input.rate_hz (period ns)", self.period_ns.to_string(), running.period_ns.to_string());
         cmp("drift.estimator", self.estimator.clone(), running.estimator.clone());
+        cmp("motion.detector", self.detector.clone(), running.detector.clone());
         if diffs.is_empty() { Ok(()) } else { Err(SnapshotError::Incompatible(diffs.join("; "))) }
     }
 }
@@ -124,6 +132,11 @@ pub struct AxisWarm {
     pub drift: f64,
     /// Last compensated value of an accepted sample (the substitute for a rejected one).
     pub comp: f64,
+    /// Whether the last accepted sample's drift came from the estimator's model (status bit 0
+    /// of a rejected sample).
+    pub from_model: bool,
+    /// Standard deviation of the last accepted sample's drift, deg/s (+∞ while unknown).
+    pub drift_std: f64,
 }
 
 impl AxisWarm {
@@ -131,6 +144,7 @@ impl AxisWarm {
     pub fn is_finite(&self) -> bool {
         // The Kalman variance is +∞ before its first commit; NaN and negative values are not.
         self.variance >= 0.0
+            && self.drift_std >= 0.0
             && self.noise.is_valid()
             && [self.bias, self.drift, self.comp]
             .iter()
@@ -141,26 +155,63 @@ impl AxisWarm {
     }
 }
 
-/// One axis: its installed model and warm state.
+/// The state the three axes share: what the static detector and the input checks need to go
+/// on deciding exactly as before the restart.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct AxisSnapshot {
+pub struct StreamWarm {
+    /// Index of the next sample (samples processed so far): the restored pipeline continues it,
+    /// so the pending samples, the estimators' last commit and the calibration's blocks keep
+    /// their positions.
+    pub index: u64,
+    /// The sample period: configured, measured ("auto") or still being measured.
+    pub period: PeriodEstimate,
+    /// Samples since the last accepted static sample.
+    pub horizon: u64,
+    /// The pending (delayed-commit) queue.
+    pub pending: PendingState,
+    /// The static detector: residual windows, hysteresis, deadlock watch.
+    pub detector: DetectorState,
+    /// The input checks: `seq` and time references, spike estimates, stuck-value runs.
+    pub input: InputState,
+}
+
+impl StreamWarm {
+    /// Whether every stored value is usable (finite; temperatures finite or NaN).
+    pub fn is_valid(&self) -> bool {
+        self.pending.is_valid() && self.detector.is_finite() && self.input.is_finite()
+    }
+}
+
+/// An installed model as stored.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StoredModel {
     /// The model (normalised units).
     pub model: ModelState,
     /// The scaler of the model's training window (Eq. 21).
     pub scaler: MinMaxScaler,
     /// The model's version.
     pub version: u64,
+}
+
+/// One axis: its installed model (none for an estimator without models, e.g. the Kalman
+/// tracker, or before the first retrain) and warm state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisSnapshot {
+    /// The installed model, if any.
+    pub model: Option<StoredModel>,
     /// Buffers and running values.
     pub warm: AxisWarm,
 }
 
-/// The whole snapshot: the settings it depends on and the three axes.
+/// The whole snapshot: the settings it depends on, the three axes and their shared state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Snapshot {
     /// Settings the content depends on.
     pub compat: Compat,
     /// Axes x, y, z.
     pub axes: [AxisSnapshot; 3],
+    /// Detector, pending queue, input checks, sample index.
+    pub stream: StreamWarm,
 }
 
 /// Why a snapshot could not be made, read or used.
@@ -198,8 +249,8 @@ pub enum SnapshotError {
     /// Made under settings that differ from the running configuration.
     #[error("incompatible with the running configuration: {0}")]
     Incompatible(String),
-    /// A model cannot be stored (its kind has no [`ModelState`]), or there is none.
-    #[error("axis {0}: no storable model installed")]
+    /// An installed model cannot be stored (its kind has no [`ModelState`]).
+    #[error("axis {0}: the installed model cannot be stored")]
     NotStorable(usize),
 }
 
@@ -212,33 +263,60 @@ fn codec() -> impl bincode::config::Config {
 }
 
 impl Snapshot {
-    /// A snapshot of installed models and warm states; fails when an axis has no model or one
-    /// whose kind cannot be stored.
+    /// A snapshot of the installed models (an axis may have none) and the warm states; fails
+    /// when an installed model's kind cannot be stored.
     pub fn capture(
         compat: Compat,
         models: [Option<Arc<InstalledModel>>; 3],
         warm: [AxisWarm; 3],
+        stream: StreamWarm,
     ) -> Result<Self, SnapshotError> {
         let mut axes = Vec::with_capacity(3);
         for (axis, (m, w)) in models.into_iter().zip(warm).enumerate() {
-            let m = m.ok_or(SnapshotError::NotStorable(axis))?;
-            let model = m.model.state().ok_or(SnapshotError::NotStorable(axis))?;
-            axes.push(AxisSnapshot { model, scaler: m.scaler, version: m.version, warm: w });
+            let model = match m {
+                None => None,
+                Some(m) => Some(StoredModel {
+                    model: m.model.state().ok_or(SnapshotError::NotStorable(axis))?,
+                    scaler: m.scaler,
+                    version: m.version,
+                }),
+            };
+            axes.push(AxisSnapshot { model, warm: w });
         }
         let axes = <[AxisSnapshot; 3]>::try_from(axes).map_err(|_| SnapshotError::NotStorable(3))?;
-        Ok(Self { compat, axes })
+        Ok(Self { compat, axes, stream })
     }
 
-    /// The newest model version among the axes.
+    /// A snapshot of everything `pipeline` holds (see [`Snapshot::capture`]).
+    pub fn of_pipeline(pipeline: &Pipeline) -> Result<Self, SnapshotError> {
+        let models = [0, 1, 2].map(|axis| pipeline.model_slot(axis).and_then(|slot| (*slot.load()).clone()));
+        Self::capture(Compat::of(pipeline.config()), models, pipeline.warm_state(), pipeline.stream_state())
+    }
+
+    /// The newest model version among the axes (0: no model).
     pub fn model_version(&self) -> u64 {
-        self.axes.iter().map(|a| a.version).max().unwrap_or(0)
+        self.axes.iter().filter_map(|a| a.model.as_ref()).map(|m| m.version).max().unwrap_or(0)
     }
 
-    /// Checks what decoding cannot: valid models reading the stored embedding, finite scalers
-    /// and warm states.
+    /// Checks what decoding cannot: valid models reading the stored embedding, finite scalers,
+    /// warm states and shared state.
     pub fn validate(&self) -> Result<(), SnapshotError> {
+        if !self.stream.is_valid() {
+            return Err(SnapshotError::Invalid("the pending samples, detector or input state hold a non-finite value".into()));
+        }
+        if self.stream.detector.kind().name() != self.compat.detector {
+            return Err(SnapshotError::Invalid(format!(
+                "the detector state is a {} one's, the snapshot says {}",
+                self.stream.detector.kind().name(),
+                self.compat.detector
+            )));
+        }
         for (axis, a) in self.axes.iter().enumerate() {
             let invalid = |m: String| SnapshotError::Invalid(format!("axis {axis}: {m}"));
+            if !a.warm.is_finite() {
+                return Err(invalid("the warm state holds a non-finite value".into()));
+            }
+            let Some(a) = &a.model else { continue };
             a.model.validate().map_err(|e| invalid(e.to_string()))?;
             if let Some(model) = a.model.embedding() {
                 let pipeline = self.compat.embedding;
@@ -256,9 +334,6 @@ impl Snapshot {
             let s = a.scaler;
             if !(s.min.is_finite() && s.max.is_finite() && s.min <= s.max) {
                 return Err(invalid(format!("scaler [{}, {}] is not a finite range", s.min, s.max)));
-            }
-            if !a.warm.is_finite() {
-                return Err(invalid("the warm state holds a non-finite value".into()));
             }
         }
         Ok(())
@@ -317,17 +392,26 @@ impl Snapshot {
         Ok(snapshot)
     }
 
-    /// Installs the models and restores the warm state into `pipeline`, after checking the
-    /// snapshot against the pipeline's configuration; on an error the pipeline is unchanged.
+    /// Installs the models and restores the warm and shared state into `pipeline` (one that
+    /// has processed no sample), after checking the snapshot against the pipeline's
+    /// configuration and trying it on a scratch pipeline of the same configuration; on an
+    /// error the pipeline is unchanged.
     pub fn restore_into(&self, pipeline: &mut Pipeline) -> Result<(), SnapshotError> {
         self.compat.check(&Compat::of(pipeline.config()))?;
         self.validate()?;
+        let mut scratch = Pipeline::new(pipeline.config().clone()).map_err(|e| SnapshotError::Incompatible(e.to_string()))?;
+        self.apply(&mut scratch)?;
+        self.apply(pipeline)
+    }
+
+    fn apply(&self, pipeline: &mut Pipeline) -> Result<(), SnapshotError> {
         let warm = self.axes.each_ref().map(|a| a.warm.clone());
-        pipeline.restore_warm_state(&warm).map_err(|e| SnapshotError::Invalid(e.to_string()))?;
+        pipeline.restore_state(&warm, &self.stream).map_err(|e| SnapshotError::Incompatible(e.to_string()))?;
         for (axis, a) in self.axes.iter().enumerate() {
-            let model: Arc<dyn Predict + Send + Sync> = Arc::new(a.model.clone());
+            let Some(m) = &a.model else { continue };
+            let model: Arc<dyn Predict + Send + Sync> = Arc::new(m.model.clone());
             pipeline
-                .install_model(axis, model, a.scaler, a.version)
+                .install_model(axis, model, m.scaler, m.version)
                 .map_err(|e| SnapshotError::Incompatible(format!("axis {axis}: {e}")))?;
         }
         Ok(())
@@ -386,8 +470,7 @@ mod tests {
     }
 
     fn capture(p: &Pipeline) -> Snapshot {
-        let models = [0, 1, 2].map(|a| (*p.model_slot(a).unwrap().load()).clone());
-        Snapshot::capture(Compat::of(p.config()), models, p.warm_state()).unwrap()
+        Snapshot::of_pipeline(p).unwrap()
     }
 
     fn run(p: &mut Pipeline, from: u64, n: u64) -> Vec<OutputSample> {
@@ -460,7 +543,7 @@ mod tests {
         nan.axes[1].warm.history[3] = f64::NAN;
         assert!(matches!(decode(&nan.encode().unwrap()), SnapshotError::Invalid(m) if m.contains("axis 1")));
         let mut scaler = snapshot.clone();
-        scaler.axes[0].scaler.min = 5.0;
+        scaler.axes[0].model.as_mut().unwrap().scaler.min = 5.0;
         assert!(matches!(decode(&scaler.encode().unwrap()), SnapshotError::Invalid(_)));
 
         // Incompatible settings name the key and leave the pipeline untouched.
@@ -473,5 +556,128 @@ mod tests {
         assert!(msg.contains("denoise.lag 5 (snapshot) vs 7 (running)") && msg.contains("input.rate_hz"), "{msg}");
         assert_eq!(p.model_version(), 0);
         assert!(p.training_window(0).is_empty());
+    }
+
+    /// The default configuration (Kalman tracker with its temperature term, statistical
+    /// detector) at 10 Hz.
+    fn default_config() -> Config {
+        let mut c = Config::default();
+        c.input.rate_hz = crate::config::RateSetting::Hz(10.0);
+        c
+    }
+
+    /// A static 10 Hz stream with a slow bias and a temperature ramp (NaN on every 97th sample),
+    /// turns of 20 deg/s on axis z during `turns` (sample ranges).
+    fn moving_sample(k: u64, turns: &[std::ops::Range<u64>]) -> InputSample {
+        let noise = |a: u64| {
+            let h = (k * 3 + a).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11;
+            (h as f64 / (1u64 << 53) as f64 - 0.5) * 0.4
+        };
+        let bias = |a: u64| 0.1 * a as f64 + 0.02 * (k as f64 * 1e-3).sin();
+        let turn = if turns.iter().any(|r| r.contains(&k)) { 20.0 } else { 0.0 };
+        let mut s = InputSample::new(k, k * 100_000_000, [bias(0) + noise(0), bias(1) + noise(1), bias(2) + noise(2) + turn]);
+        s.temp_c = if k.is_multiple_of(97) { f64::NAN } else { 25.0 + k as f64 * 1e-3 };
+        s
+    }
+
+    #[test]
+    fn a_restart_mid_motion_on_the_default_path_continues_bit_identically() {
+        let c = default_config();
+        let turns = [3000..3040, 4500..4530];
+        let mut original = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        // Run into the first turn until the detector has flagged it for a while.
+        let mut out = original.process(&moving_sample(0, &turns));
+        let mut at = 1;
+        while at < 3020 || out.status & crate::stream::STATUS_MOVING == 0 {
+            out = original.process(&moving_sample(at, &turns));
+            at += 1;
+        }
+        assert!(at < 3040, "the turn is flagged at once ({at})");
+        let onsets = original.stats().detector.onsets;
+        assert!(original.stats().committed > 1000 && original.stats().detector.onsets >= 1);
+        // The default path has no model: the snapshot holds none and is written all the same.
+        let snapshot = capture(&original);
+        assert!(snapshot.axes.iter().all(|a| a.model.is_none()));
+        assert_eq!(snapshot.model_version(), 0);
+        // (The onset flushed the pending queue: it is empty during a motion.)
+        assert!(snapshot.axes.iter().all(|a| a.warm.variance.is_finite() && a.warm.temperature.is_some()));
+        let bytes = snapshot.encode().unwrap();
+        let decoded = Snapshot::decode(&bytes).unwrap();
+        // Bytes, not `==`: pending temperatures may be NaN (none).
+        assert_eq!(decoded.encode().unwrap(), bytes);
+
+        let mut restored = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        decoded.restore_into(&mut restored).unwrap();
+        let mut cold = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        let mut differs = 0;
+        for k in at..6000 {
+            let s = moving_sample(k, &turns);
+            let (w, g) = (original.process(&s), restored.process(&s));
+            assert_eq!(g.drift_dps.map(f64::to_bits), w.drift_dps.map(f64::to_bits), "sample {k}");
+            assert_eq!(g.drift_std_dps.map(f64::to_bits), w.drift_std_dps.map(f64::to_bits), "sample {k}");
+            assert_eq!(g, w, "sample {k}");
+            differs += (cold.process(&s) != w) as u32;
+        }
+        // Same flags and counts from the restart on, and the state left at the end is the same.
+        let after = restored.stats().detector.onsets;
+        assert!(after >= 1 && after == original.stats().detector.onsets - onsets, "the second turn is found after the restart");
+        assert_eq!(capture(&restored).encode().unwrap(), capture(&original).encode().unwrap());
+        // A cold start is not the same: what made the difference is the snapshot.
+        assert!(differs > 1000, "{differs}");
+    }
+
+    #[test]
+    fn a_restart_with_a_full_pending_queue_finds_the_next_motion_as_the_uninterrupted_run_does() {
+        let c = default_config();
+        let turns = [2500..2540, 9000..9001]; // (the second lies past the end)
+        let mut original = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        for k in 0..2000 {
+            original.process(&moving_sample(k, &turns));
+        }
+        let snapshot = capture(&original);
+        let discarded = original.stats().discarded;
+        assert_eq!(snapshot.stream.pending.samples.len(), 620, "the 62 s commit delay at 10 Hz");
+        assert!(snapshot.stream.pending.samples.iter().any(|s| s.2.is_nan()), "with samples lacking a temperature");
+        let mut restored = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        Snapshot::decode(&snapshot.encode().unwrap()).unwrap().restore_into(&mut restored).unwrap();
+        for k in 2000..3500 {
+            let s = moving_sample(k, &turns);
+            assert_eq!(restored.process(&s), original.process(&s), "sample {k}");
+        }
+        // The onset's look-back discarded the same restored pending samples.
+        assert!(restored.stats().discarded > 0);
+        assert_eq!(restored.stats().discarded, original.stats().discarded - discarded);
+    }
+
+    #[test]
+    fn a_snapshot_for_another_detector_or_with_foreign_windows_is_refused_and_leaves_the_pipeline_alone() {
+        let c = default_config();
+        let mut p = Pipeline::new(c.pipeline().unwrap()).unwrap();
+        for k in 0..200 {
+            p.process(&moving_sample(k, &[]));
+        }
+        let snapshot = capture(&p);
+        // Other windows: the stored residual windows do not fit.
+        let mut other = c.clone();
+        other.motion.windows_s = vec![0.5, 2.0, 10.0];
+        other.motion.relearn_s = 600.0;
+        let mut q = Pipeline::new(other.pipeline().unwrap()).unwrap();
+        let err = snapshot.restore_into(&mut q).unwrap_err();
+        assert!(err.to_string().contains("motion windows"), "{err}");
+        assert_eq!(q.stream_state(), Pipeline::new(other.pipeline().unwrap()).unwrap().stream_state());
+        // Another detector: named as an incompatible key.
+        let mut threshold = c.clone();
+        threshold.motion.detector = crate::stream::DetectorKind::Threshold;
+        let mut q = Pipeline::new(threshold.pipeline().unwrap()).unwrap();
+        let err = snapshot.restore_into(&mut q).unwrap_err();
+        assert!(err.to_string().contains("motion.detector statistical (snapshot) vs threshold (running)"), "{err}");
+        // A forged detector state of the other kind is refused at decoding.
+        let mut forged = snapshot.clone();
+        forged.compat.detector = "threshold".into();
+        assert!(matches!(Snapshot::decode(&forged.encode().unwrap()), Err(SnapshotError::Invalid(_))));
+        // An infinite temperature in the pending queue is invalid content.
+        let mut inf = snapshot.clone();
+        inf.stream.pending.samples[0].2 = f64::INFINITY;
+        assert!(matches!(Snapshot::decode(&inf.encode().unwrap()), Err(SnapshotError::Invalid(_))));
     }
 }

@@ -22,10 +22,10 @@ mod threshold;
 
 use std::fmt;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
-pub use statistical::{StatisticalConfig, StatisticalDetector};
-pub use threshold::ThresholdDetector;
+pub use statistical::{StatisticalConfig, StatisticalDetector, StatisticalState};
+pub use threshold::{ThresholdDetector, ThresholdState};
 
 use super::calibration::NoiseCalibration;
 use super::drift::DriftEstimate;
@@ -100,6 +100,41 @@ pub trait MotionDetector: fmt::Debug + Send {
 
     /// New fixed thresholds from a reloaded configuration (only the threshold gate has any).
     fn reconfigure_thresholds(&mut self, _config: crate::stream::MotionConfig) {}
+
+    /// A copy of the state the next decisions depend on (windows, hysteresis, deadlock watch),
+    /// for a snapshot; the counters are not part of it.
+    fn state(&self) -> DetectorState;
+
+    /// Restores what [`MotionDetector::state`] copied, into a detector of the same kind whose
+    /// windows are sized for the same period; refused (nothing changed) otherwise.
+    fn restore_state(&mut self, state: &DetectorState) -> Result<(), String>;
+}
+
+/// A detector's state in a snapshot (one variant per detector kind).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum DetectorState {
+    /// [`StatisticalDetector`].
+    Statistical(Box<StatisticalState>),
+    /// [`ThresholdDetector`].
+    Threshold(ThresholdState),
+}
+
+impl DetectorState {
+    /// The detector kind the state belongs to.
+    pub fn kind(&self) -> DetectorKind {
+        match self {
+            Self::Statistical(_) => DetectorKind::Statistical,
+            Self::Threshold(_) => DetectorKind::Threshold,
+        }
+    }
+
+    /// Whether every stored number is finite.
+    pub fn is_finite(&self) -> bool {
+        match self {
+            Self::Statistical(s) => s.is_finite(),
+            Self::Threshold(s) => s.is_finite(),
+        }
+    }
 }
 
 /// The registry of detectors: `[motion] detector` in the configuration.

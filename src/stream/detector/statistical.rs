@@ -29,7 +29,9 @@
 //! drift estimate of finite variance, no test can run: the windows restart and the samples are
 //! taken as static (there is nothing to compare them with).
 
-use super::{Decision, DetectorCounters, DetectorInput, MotionDetector};
+use serde::{Deserialize, Serialize};
+
+use super::{Decision, DetectorCounters, DetectorInput, DetectorState, MotionDetector};
 use crate::model::normal::{MIN_PROBABILITY, chi2_upper, two_sided_z};
 
 /// Longest window, settle or guard span, samples (longer ones are cut to it: at 1 kHz 17 min).
@@ -102,7 +104,7 @@ impl StatisticalConfig {
 }
 
 /// Prefix sums of r and r² since the last reset, in a ring (the window means are differences).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 struct PrefixRing {
     sum: Vec<f64>,
     sum_sq: Vec<f64>,
@@ -173,7 +175,7 @@ pub struct StatisticalDetector {
 /// detector sees, in blocks of the longest window. It counts the run's blocks and the latest
 /// consecutive blocks whose means agree (each axis within z·√(2·v(block)) of the previous one,
 /// the variance test quiet in both).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 struct StuckWatch {
     sum: [f64; 3],
     filled: usize,
@@ -190,6 +192,26 @@ pub const STEADY_BLOCKS: usize = 2;
 impl StuckWatch {
     fn reset(&mut self) {
         *self = Self::default();
+    }
+}
+
+/// The statistical detector's state in a snapshot: the residual windows (prefix-sum rings),
+/// samples since the last alarm, the hysteresis verdict and the deadlock watch. What the
+/// configuration and the period determine (window lengths, quantiles) is not stored.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StatisticalState {
+    rings: [PrefixRing; 3],
+    since_alarm: usize,
+    moving: bool,
+    stuck: StuckWatch,
+}
+
+impl StatisticalState {
+    /// Whether every stored number is finite.
+    pub fn is_finite(&self) -> bool {
+        let ring = |r: &PrefixRing| r.sum.iter().chain(&r.sum_sq).chain([&r.s, &r.s2]).all(|v| v.is_finite());
+        self.rings.iter().all(ring)
+            && self.stuck.sum.iter().chain(self.stuck.previous.iter().flatten()).all(|v| v.is_finite())
     }
 }
 
@@ -465,6 +487,37 @@ impl MotionDetector for StatisticalDetector {
 
     fn longest_window(&self) -> usize {
         self.windows.iter().copied().max().unwrap_or(1)
+    }
+
+    fn state(&self) -> DetectorState {
+        DetectorState::Statistical(Box::new(StatisticalState {
+            rings: self.rings.clone(),
+            since_alarm: self.since_alarm,
+            moving: self.moving,
+            stuck: self.stuck.clone(),
+        }))
+    }
+
+    fn restore_state(&mut self, state: &DetectorState) -> Result<(), String> {
+        let DetectorState::Statistical(s) = state else {
+            return Err(format!("a {} detector's state, not a statistical one's", state.kind().name()));
+        };
+        let cap = self.rings[0].sum.len();
+        let fits = |r: &PrefixRing| r.sum.len() == cap && r.sum_sq.len() == cap && (cap == 0 || r.head < cap);
+        if !s.rings.iter().all(fits) {
+            return Err(format!(
+                "motion windows: the stored residual windows hold {} samples, these settings {cap}",
+                s.rings[0].sum.len()
+            ));
+        }
+        if s.stuck.filled > self.longest {
+            return Err("motion: the stored deadlock watch is longer than the longest window".into());
+        }
+        self.rings = s.rings.clone();
+        self.since_alarm = s.since_alarm;
+        self.moving = s.moving;
+        self.stuck = s.stuck.clone();
+        Ok(())
     }
 }
 

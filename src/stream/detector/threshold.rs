@@ -1,7 +1,9 @@
 //! The fixed-threshold gate as a [`MotionDetector`]: [`MotionGate`] with the drift estimate as
 //! its rate reference (once every axis has one of finite variance), commit delay 0.
 
-use super::{Decision, DetectorCounters, DetectorInput, MotionDetector};
+use serde::{Deserialize, Serialize};
+
+use super::{Decision, DetectorCounters, DetectorInput, DetectorState, MotionDetector};
 use crate::stream::motion_gate::{MotionConfig, MotionGate};
 
 /// Threshold gate (module documentation).
@@ -10,6 +12,20 @@ pub struct ThresholdDetector {
     gate: MotionGate,
     counters: DetectorCounters,
     was_moving: bool,
+}
+
+/// The threshold gate's state in a snapshot: the variance windows and the last verdict.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ThresholdState {
+    windows: [Vec<f64>; 3],
+    was_moving: bool,
+}
+
+impl ThresholdState {
+    /// Whether every stored number is finite.
+    pub fn is_finite(&self) -> bool {
+        self.windows.iter().flatten().all(|v| v.is_finite())
+    }
 }
 
 impl ThresholdDetector {
@@ -51,5 +67,18 @@ impl MotionDetector for ThresholdDetector {
     /// See [`MotionGate::reconfigure`].
     fn reconfigure_thresholds(&mut self, config: MotionConfig) {
         self.gate.reconfigure(config);
+    }
+
+    fn state(&self) -> DetectorState {
+        DetectorState::Threshold(ThresholdState { windows: self.gate.windows(), was_moving: self.was_moving })
+    }
+
+    fn restore_state(&mut self, state: &DetectorState) -> Result<(), String> {
+        let DetectorState::Threshold(s) = state else {
+            return Err(format!("a {} detector's state, not a threshold gate's", state.kind().name()));
+        };
+        self.gate.refill(&s.windows)?;
+        self.was_moving = s.was_moving;
+        Ok(())
     }
 }
