@@ -8,7 +8,7 @@
 //! Case counts: proptest's default (256 per property) or `PROPTEST_CASES`.
 
 use gyrocomp::config::Config;
-use gyrocomp::stream::Pipeline;
+use gyrocomp::stream::{EstimatorKind, Pipeline};
 use proptest::prelude::*;
 
 const DEFAULT: &str = include_str!("../configs/default.toml");
@@ -55,17 +55,27 @@ fn value() -> impl Strategy<Value = String> {
         prop::sample::select(vec!["nan", "inf", "-inf", "-0.0", "1e308", "0", "-1", "1", "true", "[]", "{}"])
             .prop_map(str::to_owned),
         "[a-z0-9_./ -]{0,12}".prop_map(|s| format!("{s:?}")),
-        prop::sample::select(vec![
-            "\"db4\"",
-            "\"db1\"",
-            "\"live\"",
-            "\"deterministic\"",
-            "\"spin\"",
-            "\"json\"",
-            "\"/tmp/x\""
-        ])
-        .prop_map(str::to_owned),
+        prop::sample::select(named_values()),
     ]
+}
+
+/// The string values the loader gives a meaning to: every estimator of the registry (so a new
+/// one is fuzzed without an edit here), every string value of the default file, and the other
+/// choices of the string-valued keys.
+fn named_values() -> Vec<String> {
+    let mut out: Vec<String> = EstimatorKind::ALL.iter().map(|e| format!("{:?}", e.name())).collect();
+    for line in DEFAULT.lines().filter(|l| !l.starts_with('#')) {
+        if let Some((_, v)) = line.split_once(" = ")
+            && v.starts_with('"')
+        {
+            out.push(v.trim().to_owned());
+        }
+    }
+    let others = ["db1", "threshold", "statistical", "deterministic", "spin", "drop-newest", "json", "debug", "/tmp/x"];
+    out.extend(others.iter().map(|v| format!("{v:?}")));
+    out.sort();
+    out.dedup();
+    out
 }
 
 /// The default file with the value of its `n`-th `key = value` line (modulo the count) replaced.
@@ -82,10 +92,28 @@ fn replace_value(n: usize, v: &str) -> String {
         .join("\n")
 }
 
+/// `text` with its `estimator = ...` line (the `[drift]` one) selecting `e`.
+fn with_estimator(text: &str, e: EstimatorKind) -> String {
+    let set = format!("estimator = {:?}", e.name());
+    text.lines().map(|l| if l.starts_with("estimator = ") { set.as_str() } else { l }).collect::<Vec<_>>().join("\n")
+}
+
+/// The keys come from the default file, so keys added there are fuzzed without an edit here;
+/// these are the ones added last (issue 15's check), and the estimator line is found.
+#[test]
+fn keys_follow_the_default_file() {
+    let keys = keys();
+    for k in ["drift.estimator", "drift.temperature", "motion.relearn_s", "motion.detector"] {
+        assert!(keys.iter().any(|x| x == k), "{k} not among {keys:?}");
+    }
+    assert!(with_estimator(DEFAULT, EstimatorKind::Hybrid).contains("\nestimator = \"hybrid\"\n"));
+    assert!(named_values().contains(&"\"hybrid\"".to_owned()));
+}
+
 proptest! {
     #[test]
     fn arbitrary_toml_like_text_never_panics(
-        text in "(\\[(denoise|retrain|ipc|log|state|motion|x)\\]\n|(window|lag|tau|dim|mode|dir|level|rate_hz|foo) = |[0-9.e+-]{1,8}|\"[a-z/]{0,5}\"|true|\n|#|=|\\[|\\]| ){0,40}"
+        text in "(\\[(denoise|drift|retrain|ipc|log|state|motion|x)\\]\n|(window|lag|tau|dim|mode|dir|level|rate_hz|estimator|temperature|relearn_s|detector|foo) = |[0-9.e+-]{1,8}|\"[a-z/]{0,5}\"|true|\n|#|=|\\[|\\]| ){0,40}"
     ) {
         check(&text, &keys())?;
     }
@@ -93,6 +121,18 @@ proptest! {
     #[test]
     fn any_value_for_any_key_never_panics(n in 0usize..200, v in value()) {
         check(&replace_value(n, &v), &keys())?;
+    }
+
+    /// The same with each estimator selected: keys that only one estimator reads (the retrainer's
+    /// for `cpso-lssvm` and `hybrid`) get arbitrary values under every one of them.
+    #[test]
+    fn any_value_for_any_key_under_each_estimator_never_panics(
+        e in prop::sample::select(EstimatorKind::ALL.to_vec()),
+        n in 0usize..200,
+        v in value(),
+    ) {
+        let text = with_estimator(&replace_value(n, &v), e);
+        check(&text, &keys())?;
     }
 
     #[test]
