@@ -121,12 +121,12 @@ fn wire_layout_matches_design() {
         ],
         [0, 8, 16, 40, 64, 72, 76, 80]
     );
-    assert_eq!(size_of::<StatusSample>(), 192);
+    assert_eq!(size_of::<StatusSample>(), 224);
     // SAFETY: type_name only returns a string constant.
     unsafe {
         assert_eq!(<RawSample as ZeroCopySend>::type_name(), "gyrocomp::RawSample");
         assert_eq!(<CompSample as ZeroCopySend>::type_name(), "gyrocomp::CompSample.v2");
-        assert_eq!(<StatusSample as ZeroCopySend>::type_name(), "gyrocomp::StatusSample.v2");
+        assert_eq!(<StatusSample as ZeroCopySend>::type_name(), "gyrocomp::StatusSample.v3");
     }
     let r = RawSample::new(3, 0, [0.0; 3]);
     assert!(r.temperature().is_none() && !r.is_moving());

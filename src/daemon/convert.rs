@@ -103,6 +103,7 @@ pub fn status_sample(
         stuck: stats.input.stuck,
         saturated: stats.input.saturated,
         bad_temperature: stats.input.bad_temperature,
+        relearns: stats.detector.relearns,
     }
 }
 

@@ -125,7 +125,7 @@ impl StatusEvent {
     }
 }
 
-/// Model events and counters, on the `gyrocomp/status` service (216 bytes).
+/// Model events and counters, on the `gyrocomp/status` service (224 bytes).
 /// Counters are totals since the daemon started.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[type_name("gyrocomp::StatusSample.v3")]
@@ -188,6 +188,9 @@ pub struct StatusSample {
     pub saturated: u64,
     /// Temperatures ignored as ±∞ or implausible (the samples themselves were used).
     pub bad_temperature: u64,
+    /// Static detector: times the drift estimate was relearnt after `[motion] relearn_s` of
+    /// unexplained, unchanging "moving" (the deadlock breaker).
+    pub relearns: u64,
 }
 
 // Layout checks: the byte counts are part of the wire contract (docs/design.md).
@@ -196,6 +199,6 @@ const _: () = {
     assert!(align_of::<RawSample>() == 8);
     assert!(size_of::<CompSample>() == 104);
     assert!(align_of::<CompSample>() == 8);
-    assert!(size_of::<StatusSample>() == 216);
+    assert!(size_of::<StatusSample>() == 224);
     assert!(align_of::<StatusSample>() == 8);
 };

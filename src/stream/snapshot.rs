@@ -126,6 +126,8 @@ pub struct AxisWarm {
     /// Kalman temperature term, once a temperature was committed: coefficient c (deg/s/°C),
     /// Cov(b, c), Var(c) and T₀ (°C).
     pub temperature: Option<[f64; 4]>,
+    /// Kalman: the last finite temperature seen (°C), which stands in for a sample without one.
+    pub last_temp_c: Option<f64>,
     /// The axis' self-calibration (online Allan variance, running σ).
     pub noise: NoiseCalibration,
     /// Drift subtracted from the last accepted sample (held during motion).
@@ -149,6 +151,7 @@ impl AxisWarm {
             && [self.bias, self.drift, self.comp]
             .iter()
             .chain(self.temperature.iter().flatten())
+            .chain(self.last_temp_c.iter())
             .chain(&self.denoiser_window)
             .chain(&self.history)
             .all(|v| v.is_finite())
