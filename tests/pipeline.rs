@@ -81,6 +81,30 @@ fn outputs_never_depend_on_future_samples() {
         let changed = run(&mut retraining_pipeline(config()), &other);
         assert_eq!(base[..change], changed[..change], "change at {change}");
         assert_ne!(base[change..], changed[change..]);
+        // Causality at t itself (issue 15 item 7): the drift subtracted from x[t] never uses
+        // x[t], with a model installed (after the first swap at 1100) as before it. The change
+        // here is small enough not to flip a verdict on x[t]: a rejected or moving x[t] gets the
+        // drift held from the last accepted sample instead of the forecast for t (both from
+        // samples before t).
+        let mut nudged = input.clone();
+        nudged[change].rate_dps[1] += 1e-4;
+        let nudged = run(&mut retraining_pipeline(config()), &nudged);
+        let (b, n) = (&base[change], &nudged[change]);
+        assert_eq!((b.status, b.model_version), (n.status, n.model_version), "change at {change}");
+        assert_eq!(b.drift_dps, n.drift_dps, "drift at {change} used x[{change}]");
+        assert_ne!(b.rate_dps, n.rate_dps);
+        assert!(change < 1100 || b.model_version > 0, "a model is installed at {change}");
+    }
+    // The same on the default path (Kalman tracker behind the statistical detector).
+    let default = || Pipeline::new(Config::default().pipeline().unwrap()).unwrap();
+    let base = run(&mut default(), &input);
+    for change in [500, 2200] {
+        let mut other = input.clone();
+        other[change].rate_dps[0] += 1e-4;
+        let changed = run(&mut default(), &other);
+        assert_eq!(base[..change], changed[..change], "default path, change at {change}");
+        assert_eq!(base[change].status, changed[change].status);
+        assert_eq!(base[change].drift_dps, changed[change].drift_dps, "default path: drift at {change} used x[{change}]");
     }
 }
 
