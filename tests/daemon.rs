@@ -53,6 +53,15 @@ impl Daemon {
         assert!(ok, "kill -{name} {pid}");
     }
 
+    /// Waits until the daemon's log contains `needle` (a state, not a guessed delay).
+    fn wait_log(&self, needle: &str, timeout: Duration) {
+        let start = Instant::now();
+        while !std::fs::read_to_string(&self.log).unwrap_or_default().contains(needle) {
+            assert!(start.elapsed() < timeout, "no `{needle}` in the daemon's log within {timeout:?}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
     fn wait(&mut self, timeout: Duration) -> ExitStatus {
         let start = Instant::now();
         let child = self.child.as_mut().unwrap();
@@ -173,7 +182,7 @@ fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
     // SIGHUP with a motion threshold below every rate: the next samples are all moving.
     write_config(&daemon.config, &config_text(&daemon.domain, 1e-9, "event"));
     daemon.signal("HUP");
-    std::thread::sleep(Duration::from_millis(500));
+    daemon.wait_log("SIGHUP: configuration reloaded", Duration::from_secs(20));
     let moving = exchange(&raw, &comp, &samples[700..900]);
     assert!(moving.iter().all(|a| a.status & STATUS_MOVING != 0));
 

@@ -273,8 +273,8 @@ fn daemon_restart_while_the_publisher_keeps_going_and_stale_nodes_are_cleaned() 
     assert!(census.dead >= 1, "the killed daemon's node is detected as dead: {census:?}");
 
     // While no daemon runs the publisher keeps sending at its rate (its samples go unanswered).
-    std::thread::sleep(Duration::from_millis(1000));
-    let during = publisher.last("progress").unwrap();
+    let sent_at_kill = killed_at.get("sent");
+    let during = publisher.wait_for("progress", Duration::from_secs(30), |p| p.get("sent") >= sent_at_kill + 100);
     assert!(during.get("sent") >= killed_at.get("sent") + 100, "{} -> {}", killed_at.line, during.line);
 
     let mut daemon = start_daemon(&setup, 2);
