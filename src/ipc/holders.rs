@@ -5,7 +5,7 @@
 //! publisher is the daemon's, so a second daemon with the same service prefix cannot create its
 //! own, and the raw publisher is the one INS client's, so a second client cannot interleave its
 //! samples with the first one's. When creating the publisher fails because the service already
-//! has one, [`publisher_holders`] names the holder from the service's dynamic configuration (the
+//! has one, `publisher_holders` names the holder from the service's dynamic configuration (the
 //! publisher's node id) and iceoryx2's node listing (`Node::list`: the node's name, process id
 //! and executable, and whether its process still lives).
 

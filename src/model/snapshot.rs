@@ -1,8 +1,8 @@
 //! Storable forms of fitted models, for model snapshots (a warm restart of the daemon uses the
 //! model of its last successful retrain; the file format is in [`crate::stream::snapshot`]).
 //!
-//! A fitted model hands out its state through [`Predict::state`]; the state is plain data
-//! (serde) and is itself a [`Predict`] whose predictions are bit-identical to the model it came
+//! A fitted model hands out its state through [`Predict::state`](crate::model::Predict::state); the state is plain data
+//! (serde) and is itself a [`Predict`](crate::model::Predict) whose predictions are bit-identical to the model it came
 //! from: it evaluates the same [`LssvmModel`] (paper Eq. 4 in dual form, kernel Eq. 8, PSR input
 //! Eq. 15) with the same `f64` values. Decoded states are untrusted input: [`ModelState::validate`]
 //! checks every invariant `predict` relies on before one is used.
