@@ -33,6 +33,6 @@ pub use receiver::Receiver;
 pub use sender::Sender;
 pub use settings::{DEFAULT_PREFIX, DEFAULT_SUBSCRIBER_BUFFER, Delivery, IpcSettings, ServiceNames, WaitMode};
 pub use wire::{
-    CompSample, RAW_FLAG_MOVING, RawSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED, StatusEvent,
-    StatusSample,
+    CompSample, RAW_FLAG_MOVING, RawSample, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED,
+    STATUS_SENSOR_FAULT, StatusEvent, StatusSample,
 };

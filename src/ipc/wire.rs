@@ -12,7 +12,7 @@ use iceoryx2::prelude::ZeroCopySend;
 /// `RawSample::flags` bit 0 (the publisher says the vehicle is moving) and the
 /// `CompSample::status` bits are the pipeline's own: one definition serves both.
 pub use crate::stream::sample::{
-    FLAG_MOVING as RAW_FLAG_MOVING, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED,
+    FLAG_MOVING as RAW_FLAG_MOVING, STATUS_GAP, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED, STATUS_SENSOR_FAULT,
 };
 
 /// One raw gyro sample from the INS, on the `gyrocomp/raw` service (56 bytes).
@@ -67,7 +67,8 @@ pub struct CompSample {
     pub drift_dps: [f64; 3],
     /// Version of the model that produced the drift (0 = none yet).
     pub model_version: u64,
-    /// Bit field: [`STATUS_NO_MODEL`], [`STATUS_MOVING`], [`STATUS_REJECTED`], [`STATUS_GAP`].
+    /// Bit field: [`STATUS_NO_MODEL`], [`STATUS_MOVING`], [`STATUS_REJECTED`], [`STATUS_GAP`],
+    /// [`STATUS_SENSOR_FAULT`].
     pub status: u32,
     /// Padding to a multiple of 8 bytes; write 0.
     pub _pad: u32,
