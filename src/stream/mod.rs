@@ -14,6 +14,7 @@ pub mod motion_gate;
 pub mod pending;
 pub mod period;
 pub mod pipeline;
+mod registry;
 pub mod retrain;
 pub mod ring;
 pub mod sample;

@@ -55,13 +55,8 @@ use std::time::Instant;
 
 use super::calibration::NoiseCalibration;
 use super::causal_denoise::CausalConfig;
-use super::detector::{
-    Decision, DetectorCounters, DetectorInput, DetectorKind, MotionDetector, StatisticalConfig, StatisticalDetector,
-    ThresholdDetector,
-};
-use super::drift::{
-    DriftConfig, DriftEstimate, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold,
-};
+use super::detector::{Decision, DetectorCounters, DetectorInput, DetectorKind, MotionDetector, StatisticalConfig};
+use super::drift::{DriftConfig, DriftEstimate, DriftEstimator};
 use crate::model::embed::Embedding;
 use super::input_check::{InputCheck, InputConfig, InputCounters};
 use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
@@ -102,6 +97,22 @@ pub struct PipelineConfig {
     pub input: InputConfig,
     /// Retrain schedule (used once a trainer is attached).
     pub retrain: RetrainSchedule,
+}
+
+impl PipelineConfig {
+    /// Checks every setting with the guard of its own type (and the bias average and the
+    /// retrain window against the embedding); the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        self.causal.validate().map_err(|e| format!("denoise.window/denoise.lag: {e}"))?;
+        if self.bias_samples == 0 {
+            return Err("pipeline.bias_samples must be at least 1".into());
+        }
+        self.statistical.validate()?;
+        self.drift.validate()?;
+        self.motion.validate()?;
+        self.input.validate()?;
+        self.retrain.validate(self.embedding.history())
+    }
 }
 
 /// Counters of what the pipeline has done.
@@ -240,26 +251,13 @@ impl Pipeline {
         let history = config.retrain.window.max(config.embedding.history());
         let period = PeriodEstimate::new(config.input.period_ns);
         let axis = || -> Result<AxisState, PipelineError> {
-            let estimator: Box<dyn DriftEstimator> = match config.drift.kind {
-                EstimatorKind::Kalman => {
-                    Box::new(KalmanBias::new(config.drift.innovation_gate, config.drift.temperature))
-                }
-                EstimatorKind::BiasHold => Box::new(StartupHold::new(config.drift.startup_s)),
-                EstimatorKind::Hybrid => {
-                    Box::new(HybridForecast::new(config.drift.innovation_gate, config.drift.temperature, history))
-                }
-                EstimatorKind::CpsoLssvm => Box::new(
-                    ModelForecast::new(config.causal.clone(), history, config.bias_samples)
-                        .map_err(|e| PipelineError::Config(e.to_string()))?,
-                ),
-            };
+            let estimator = (config.drift.kind)
+                .build(&config.drift, &config.causal, history, config.bias_samples)
+                .map_err(PipelineError::Config)?;
             Ok(AxisState { estimator, drift: 0.0, comp: 0.0, from_model: false, std: f64::INFINITY })
         };
         let axes = [axis()?, axis()?, axis()?];
-        let detector: Box<dyn MotionDetector> = match config.detector {
-            DetectorKind::Statistical => Box::new(StatisticalDetector::new(config.statistical.clone())),
-            DetectorKind::Threshold => Box::new(ThresholdDetector::new(config.motion)),
-        };
+        let detector = config.detector.build(&config.statistical, config.motion);
         let known = period.period_s();
         let mut pipeline = Self {
             noise: Default::default(),
@@ -323,9 +321,7 @@ impl Pipeline {
                 schedule.window
             )));
         }
-        if schedule.min_samples > schedule.window || schedule.every_samples == 0 {
-            return Err(PipelineError::Config("retrain: need every_samples >= 1 and min_samples <= window".into()));
-        }
+        schedule.validate(self.config.embedding.history()).map_err(PipelineError::Config)?;
         self.config.retrain = schedule;
         Ok(())
     }
@@ -738,8 +734,8 @@ mod tests {
 
     fn pipeline() -> Pipeline {
         let mut c = Config::paper();
-        c.retrain.window = 100;
-        c.retrain.min_samples = 50;
+        c.retrain.schedule.window = 100;
+        c.retrain.schedule.min_samples = 50;
         Pipeline::new(c.pipeline().unwrap()).unwrap()
     }
 

@@ -433,8 +433,8 @@ mod tests {
     fn config() -> Config {
         let mut c = Config::paper();
         c.denoise.window = 64;
-        c.retrain.window = 300;
-        c.retrain.min_samples = 100;
+        c.retrain.schedule.window = 300;
+        c.retrain.schedule.min_samples = 100;
         c
     }
 
@@ -662,8 +662,8 @@ mod tests {
         let snapshot = capture(&p);
         // Other windows: the stored residual windows do not fit.
         let mut other = c.clone();
-        other.motion.windows_s = vec![0.5, 2.0, 10.0];
-        other.motion.relearn_s = 600.0;
+        other.motion.statistical.windows_s = vec![0.5, 2.0, 10.0];
+        other.motion.statistical.relearn_s = 600.0;
         let mut q = Pipeline::new(other.pipeline().unwrap()).unwrap();
         let err = snapshot.restore_into(&mut q).unwrap_err();
         assert!(err.to_string().contains("motion windows"), "{err}");
