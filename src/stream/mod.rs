@@ -19,6 +19,7 @@ pub mod retrain;
 pub mod ring;
 pub mod sample;
 pub mod snapshot;
+pub mod warm;
 
 pub use calibration::NoiseCalibration;
 pub use causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser, denoise_causal};

@@ -33,7 +33,7 @@ pub use startup_hold::StartupHold;
 
 use super::calibration::NoiseCalibration;
 use super::model_slot::ModelSlot;
-use super::snapshot::AxisWarm;
+use super::warm::AxisWarm;
 
 /// The samples seen as static since the last commit (not yet confirmed): count and sum of the
 /// raw rates, deg/s.
