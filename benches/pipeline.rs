@@ -41,7 +41,7 @@ struct Setup {
 fn setup() -> Setup {
     let mut c = Config::paper();
     c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
-    assert_eq!(c.retrain.window, 4000);
+    assert_eq!(c.retrain.schedule.window, 4000);
     let out = Generator::generate(&Preset::Paper.config(), 1).unwrap();
     let rates: Vec<[f64; 3]> = (0..out.len()).map(|k| std::array::from_fn(|a| out.axes[a].raw[k])).collect();
     let mut fitted = Pipeline::new(c.pipeline().unwrap()).unwrap();

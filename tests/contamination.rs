@@ -60,11 +60,11 @@ fn pipeline(config: &Config) -> Pipeline {
 fn config() -> Config {
     let mut c = Config::paper();
     c.input.rate_hz = gyrocomp::config::RateSetting::Hz(RATE_HZ);
-    c.retrain.mode = "deterministic".into();
-    c.retrain.window = 1500;
-    c.retrain.min_samples = 500;
-    c.retrain.every_samples = EVERY;
-    c.retrain.apply_delay_samples = APPLY_DELAY;
+    c.retrain.schedule.mode = gyrocomp::stream::RetrainMode::Deterministic;
+    c.retrain.schedule.window = 1500;
+    c.retrain.schedule.min_samples = 500;
+    c.retrain.schedule.every_samples = EVERY;
+    c.retrain.schedule.apply_delay_samples = APPLY_DELAY;
     c
 }
 

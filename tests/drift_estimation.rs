@@ -138,8 +138,8 @@ fn the_kalman_innovations_match_its_own_variances() {
     // The filter alone: a threshold gate that never fires, so every sample is committed.
     let mut config = Config::default();
     config.motion.detector = gyrocomp::stream::DetectorKind::Threshold;
-    config.motion.rate_dps = 1e9;
-    config.motion.variance_dps2 = 1e9;
+    config.motion.threshold.rate_dps = 1e9;
+    config.motion.threshold.variance_dps2 = 1e9;
     let (p, _) = process(&config, &inputs);
     for axis in 0..3 {
         let k = p.estimator(axis).unwrap().kalman_counters().unwrap();
@@ -185,7 +185,7 @@ fn a_bias_learnt_from_a_rotation_at_power_on_is_relearnt() {
     assert!(mean_err < 0.015 && worst < 0.04, "drift off by {mean_err} on average, {worst} at worst");
     // With relearn_s = 0 (never) the deadlock stays: moving to the end, the drift 1 deg/s off.
     let mut never = Config::default();
-    never.motion.relearn_s = 0.0;
+    never.motion.statistical.relearn_s = 0.0;
     let (q, stuck) = process(&never, &inputs);
     let off = (stuck.last().unwrap().drift_dps[0] - still_mean).abs();
     assert!(off > 0.5 && stuck.last().unwrap().status & STATUS_MOVING != 0, "without relearning: drift {off} off");
@@ -256,7 +256,7 @@ fn the_hybrid_estimator_follows_a_periodic_bias_through_a_motion_where_the_track
             "[drift]\nestimator = \"{estimator}\"\n[retrain]\nmode = \"deterministic\"\nmin_samples = 100\nevery_samples = 50000\n"
         ), "test")
         .unwrap();
-        config.retrain.cpso_iterations = 6;
+        config.retrain.fit.cpso.iterations = 6;
         let mut p = gyrocomp::drive::build_pipeline(&config).unwrap();
         let outputs: Vec<OutputSample> = inputs.iter().map(|s| p.process(s)).collect();
         let (mut sum, mut n, mut moving) = (0.0, 0, 0);

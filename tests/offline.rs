@@ -10,7 +10,7 @@ use gyrocomp::config::Config;
 use gyrocomp::io::{CompensatedCsvWriter, ReadOptions, Recording, RecordingError, read_table};
 use gyrocomp::sim::{Generator, Preset};
 use gyrocomp::drive::{compensate_recording, run_pipeline};
-use gyrocomp::stream::{FLAG_MOVING, OutputSample, Pipeline, STATUS_NO_MODEL, STATUS_REJECTED, Trainer};
+use gyrocomp::stream::{FLAG_MOVING, OutputSample, Pipeline, RetrainMode, STATUS_NO_MODEL, STATUS_REJECTED, Trainer};
 
 fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
@@ -32,17 +32,17 @@ fn simulated(dir: &Path, n: usize, seed: u64) -> PathBuf {
 }
 
 /// A quick configuration: short windows, a small CPSO, retraining every 1000 samples.
-fn config(mode: &str) -> Config {
+fn config(mode: RetrainMode) -> Config {
     let mut c = Config::paper();
     c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
-    c.retrain.mode = mode.into();
-    c.retrain.window = 600;
-    c.retrain.min_samples = 300;
-    c.retrain.every_samples = 1000;
-    c.retrain.apply_delay_samples = 50;
-    c.retrain.cpso_candidates = 6;
-    c.retrain.cpso_particles = 3;
-    c.retrain.cpso_iterations = 2;
+    c.retrain.schedule.mode = mode;
+    c.retrain.schedule.window = 600;
+    c.retrain.schedule.min_samples = 300;
+    c.retrain.schedule.every_samples = 1000;
+    c.retrain.schedule.apply_delay_samples = 50;
+    c.retrain.fit.cpso.candidates = 6;
+    c.retrain.fit.cpso.particles = 3;
+    c.retrain.fit.cpso.iterations = 2;
     c
 }
 
@@ -123,12 +123,12 @@ fn offline_runs_are_the_daemons_pipeline_retrained_deterministically() {
     let dir = tempfile::tempdir().unwrap();
     let rec = Recording::load(&simulated(dir.path(), 2600, 4), &["gx_dps", "gy_dps", "gz_dps"], None).unwrap();
     // A live-mode file is run deterministically offline.
-    let first = run(&config("live"), &rec);
-    let second = run(&config("deterministic"), &rec);
+    let first = run(&config(RetrainMode::Live), &rec);
+    let second = run(&config(RetrainMode::Deterministic), &rec);
     assert_eq!(first, second, "two offline runs differ");
 
     // The same as building the pipeline by hand from the configuration, as the daemon did.
-    let c = config("deterministic");
+    let c = config(RetrainMode::Deterministic);
     let mut pipeline = Pipeline::new(c.pipeline().unwrap()).unwrap();
     pipeline.attach_trainer(Trainer::spawn(c.cpso_lssvm().unwrap()).unwrap());
     let mut by_hand = Vec::new();
@@ -156,7 +156,7 @@ fn offline_runs_are_the_daemons_pipeline_retrained_deterministically() {
 fn a_single_column_gets_models_and_zero_elsewhere() {
     let dir = tempfile::tempdir().unwrap();
     let rec = Recording::load(&simulated(dir.path(), 1200, 5), &["gy_dps"], None).unwrap();
-    let out = run(&config("deterministic"), &rec);
+    let out = run(&config(RetrainMode::Deterministic), &rec);
     let last = out.last().unwrap();
     assert_eq!(last.model_version, 1, "the missing axes must not stop retraining");
     assert_eq!(last.status & STATUS_NO_MODEL, 0);
@@ -176,7 +176,7 @@ fn the_output_csv_reads_back_bit_for_bit() {
     text = text.replace(line[500], &fields.join(","));
     let path = write_file(dir.path(), "with_nan.csv", &text);
     let rec = Recording::load(&path, &["gx_dps", "gy_dps"], None).unwrap();
-    let out = run(&config("deterministic"), &rec);
+    let out = run(&config(RetrainMode::Deterministic), &rec);
     assert!(out[499].status & STATUS_REJECTED != 0);
 
     let csv = dir.path().join("out.csv");

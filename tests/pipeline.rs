@@ -21,11 +21,11 @@ const PERIOD_NS: u64 = 100_000_000; // 10 Hz
 fn config() -> PipelineConfig {
     let mut c = Config::paper();
     c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
-    c.retrain.window = 600;
-    c.retrain.min_samples = 300;
-    c.retrain.mode = "deterministic".into();
-    c.retrain.every_samples = 1000;
-    c.retrain.apply_delay_samples = 100;
+    c.retrain.schedule.window = 600;
+    c.retrain.schedule.min_samples = 300;
+    c.retrain.schedule.mode = gyrocomp::stream::RetrainMode::Deterministic;
+    c.retrain.schedule.every_samples = 1000;
+    c.retrain.schedule.apply_delay_samples = 100;
     c.pipeline().unwrap()
 }
 
@@ -355,10 +355,10 @@ fn cpso_lssvm_retrainer_installs_a_fixed_size_model() {
     cfg.retrain.every_samples = 2000;
     cfg.retrain.min_samples = 1500;
     let mut c = Config::paper();
-    c.retrain.exact_max_rows = 1000;
-    c.retrain.cpso_candidates = 6;
-    c.retrain.cpso_particles = 3;
-    c.retrain.cpso_iterations = 3;
+    c.retrain.fit.exact_max_rows = 1000;
+    c.retrain.fit.cpso.candidates = 6;
+    c.retrain.fit.cpso.particles = 3;
+    c.retrain.fit.cpso.iterations = 3;
     let fit: CpsoLssvm = c.cpso_lssvm().unwrap();
     let mut p = Pipeline::new(cfg).unwrap();
     p.attach_trainer(Trainer::spawn(fit).unwrap());
@@ -382,9 +382,9 @@ fn print_drift_error_against_the_truth() {
     let input = samples(n, 21);
     let mut c = Config::paper();
     c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
-    c.retrain.mode = "deterministic".into();
-    c.retrain.every_samples = 3000;
-    c.retrain.apply_delay_samples = 100;
+    c.retrain.schedule.mode = gyrocomp::stream::RetrainMode::Deterministic;
+    c.retrain.schedule.every_samples = 3000;
+    c.retrain.schedule.apply_delay_samples = 100;
     let cfg = c.pipeline().unwrap();
     let mut model = Pipeline::new(cfg.clone()).unwrap();
     model.attach_trainer(Trainer::spawn(c.cpso_lssvm().unwrap()).unwrap());

@@ -44,10 +44,10 @@ static GLOBAL: Counting = Counting;
 fn no_allocation_per_sample() {
     let mut c = Config::paper();
     c.input.rate_hz = gyrocomp::config::RateSetting::Hz(10.0);
-    c.retrain.window = 1500;
-    c.retrain.cpso_candidates = 6;
-    c.retrain.cpso_particles = 3;
-    c.retrain.cpso_iterations = 2;
+    c.retrain.schedule.window = 1500;
+    c.retrain.fit.cpso.candidates = 6;
+    c.retrain.fit.cpso.particles = 3;
+    c.retrain.fit.cpso.iterations = 2;
     let mut p = Pipeline::new(c.pipeline().unwrap()).unwrap();
     let mut sim = Preset::Paper.config();
     sim.duration_s = 800.0;

@@ -79,7 +79,7 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
     let columns: Vec<&str> = args.columns.iter().map(String::as_str).collect();
     let rec = Recording::load(&args.input, &columns, args.moving_column.as_deref())?;
     if let RateSetting::Hz(hz) = config.input.rate_hz {
-        warn_on_rate_mismatch(&rec, hz, config.input.gap_factor);
+        warn_on_rate_mismatch(&rec, hz, config.input.check.gap_factor);
     }
     let write_err = |e: std::io::Error| format!("{}: cannot write: {e}", args.output.display());
     let mut writer = CompensatedCsvWriter::create(&args.output, &rec).map_err(write_err)?;

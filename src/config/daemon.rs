@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
+use super::keys::by_name;
 use super::{Config, ConfigError};
 
 /// `[state]` keys (used by `gyrocompd`).
@@ -27,14 +28,14 @@ impl Default for StateSection {
 #[serde(deny_unknown_fields, default)]
 pub struct LogSection {
     /// `text` (human-readable lines) or `json` (one JSON object per line).
-    pub format: String,
+    pub format: LogFormat,
     /// A `tracing` filter: a level (`error` … `trace`) or directives such as `info,iceoryx2=warn`.
     pub level: String,
 }
 
 impl Default for LogSection {
     fn default() -> Self {
-        Self { format: "text".into(), level: "info".into() }
+        Self { format: LogFormat::Text, level: "info".into() }
     }
 }
 
@@ -45,6 +46,12 @@ pub enum LogFormat {
     Text,
     /// One JSON object per line.
     Json,
+}
+
+impl<'de> Deserialize<'de> for LogFormat {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        by_name(d, "log.format", &[("text", Self::Text), ("json", Self::Json)])
+    }
 }
 
 impl Config {
@@ -74,10 +81,6 @@ impl Config {
     pub fn log_format(&self) -> Result<LogFormat, ConfigError> {
         tracing_subscriber::EnvFilter::try_new(&self.log.level)
             .map_err(|e| ConfigError(format!("log.level: {:?}: {e}", self.log.level)))?;
-        match self.log.format.as_str() {
-            "text" => Ok(LogFormat::Text),
-            "json" => Ok(LogFormat::Json),
-            other => Err(ConfigError(format!("log.format: {other:?} is neither \"text\" nor \"json\""))),
-        }
+        Ok(self.log.format)
     }
 }

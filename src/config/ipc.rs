@@ -5,6 +5,7 @@ use std::time::Duration;
 
 use serde::Deserialize;
 
+use super::keys::by_name;
 use super::{Config, ConfigError};
 use crate::ipc::{Delivery, IpcSettings, ServiceNames, WaitMode};
 
@@ -15,11 +16,11 @@ pub struct IpcSection {
     /// Services are `<service_prefix>/raw`, `/compensated` and `/status`.
     pub service_prefix: String,
     /// How the daemon waits for raw samples: `event` (sleep on the event service) or `spin`.
-    pub wait: String,
+    pub wait: WaitMode,
     /// Subscriber buffer of the raw and compensated services, samples.
     pub subscriber_buffer: usize,
     /// Compensated publisher on a full subscriber buffer: `lossless` (wait) or `drop-newest`.
-    pub delivery: String,
+    pub delivery: DeliveryMode,
     /// `lossless`: longest wait for one full subscriber before the sample is dropped for it, ms
     /// (0 = wait as long as the subscriber exists).
     pub give_up_ms: u64,
@@ -34,13 +35,35 @@ impl Default for IpcSection {
     fn default() -> Self {
         Self {
             service_prefix: crate::ipc::DEFAULT_PREFIX.into(),
-            wait: "event".into(),
+            wait: WaitMode::Event,
             subscriber_buffer: crate::ipc::DEFAULT_SUBSCRIBER_BUFFER,
-            delivery: "lossless".into(),
+            delivery: DeliveryMode::Lossless,
             give_up_ms: 1000,
             domain_prefix: String::new(),
             domain_root: String::new(),
         }
+    }
+}
+
+impl<'de> Deserialize<'de> for WaitMode {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        by_name(d, "ipc.wait", &[("event", Self::Event), ("spin", Self::Spin)])
+    }
+}
+
+/// `[ipc] delivery`: what the compensated publisher does on a full subscriber buffer (with
+/// `give_up_ms`, the [`Delivery`] of the port).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DeliveryMode {
+    /// `lossless`: wait for room, up to `give_up_ms`.
+    Lossless,
+    /// `drop-newest`: never wait.
+    DropNewest,
+}
+
+impl<'de> Deserialize<'de> for DeliveryMode {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        by_name(d, "ipc.delivery", &[("lossless", Self::Lossless), ("drop-newest", Self::DropNewest)])
     }
 }
 
@@ -66,29 +89,19 @@ impl Config {
         if prefix.is_empty() {
             return Err(ConfigError("ipc.service_prefix must not be empty".into()));
         }
-        let wait_mode = match i.wait.as_str() {
-            "event" => WaitMode::Event,
-            "spin" => WaitMode::Spin,
-            other => return Err(ConfigError(format!("ipc.wait: {other:?} is neither \"event\" nor \"spin\""))),
-        };
         if i.subscriber_buffer == 0 {
             return Err(ConfigError("ipc.subscriber_buffer must be at least 1".into()));
         }
-        let delivery = match i.delivery.as_str() {
-            "lossless" => {
+        let delivery = match i.delivery {
+            DeliveryMode::Lossless => {
                 Delivery::Lossless { give_up_after: (i.give_up_ms > 0).then(|| Duration::from_millis(i.give_up_ms)) }
             }
-            "drop-newest" => Delivery::DropNewest,
-            other => {
-                return Err(ConfigError(format!(
-                    "ipc.delivery: {other:?} is neither \"lossless\" nor \"drop-newest\""
-                )));
-            }
+            DeliveryMode::DropNewest => Delivery::DropNewest,
         };
         Ok(IpcSettings {
             names: ServiceNames::with_prefix(prefix),
             subscriber_buffer: i.subscriber_buffer,
-            wait_mode,
+            wait_mode: i.wait,
             delivery,
             notify: true,
         })

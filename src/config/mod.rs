@@ -8,18 +8,18 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use crate::stream::{DetectorKind, EstimatorKind};
+use crate::stream::{DetectorKind, DriftConfig, EstimatorKind};
 
 mod daemon;
 mod ipc;
+mod keys;
 mod pipeline;
 
 // The sections are the types of `Config`'s fields: they belong to its public face.
 pub use daemon::{LogFormat, LogSection, StateSection};
-pub use ipc::{DomainChoice, IpcSection};
+pub use ipc::{DeliveryMode, DomainChoice, IpcSection};
 pub use pipeline::{
-    DenoiseSection, DriftSection, EmbeddingSection, InputSection, MotionSection, PipelineSection, RateSetting,
-    RetrainSection,
+    DenoiseSection, EmbeddingSection, InputSection, MotionSection, PipelineSection, RateSetting, RetrainSection,
 };
 
 /// Default causal window (samples): see the trade-off table in docs/evaluation.md ("Causal denoising").
@@ -45,8 +45,8 @@ pub struct Config {
     pub embedding: EmbeddingSection,
     /// `[pipeline]`: per-sample compensation.
     pub pipeline: PipelineSection,
-    /// `[drift]`: the drift estimator.
-    pub drift: DriftSection,
+    /// `[drift]`: the drift estimator (`estimator` is its `kind`).
+    pub drift: DriftConfig,
     /// `[motion]`: the static/moving detector.
     pub motion: MotionSection,
     /// `[input]`: input validation and gap detection.
@@ -80,7 +80,7 @@ impl Config {
     /// run on.
     pub fn paper() -> Self {
         let mut c = Self::default();
-        c.drift.estimator = EstimatorKind::CpsoLssvm;
+        c.drift.kind = EstimatorKind::CpsoLssvm;
         c.motion.detector = DetectorKind::Threshold;
         c.input.rate_hz = RateSetting::Hz(100.0);
         c
@@ -104,7 +104,6 @@ impl Config {
 
     /// Checks values that the types alone do not: names, ranges, and window against lag.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        self.causal_denoise()?;
         self.pipeline()?;
         self.ipc_settings()?;
         self.ipc_domain()?;
@@ -132,10 +131,10 @@ impl Config {
         }
         for (key, value, max) in [
             ("denoise.window", self.denoise.window, MAX_WINDOW),
-            ("motion.window", self.motion.window, MAX_WINDOW),
+            ("motion.window", self.motion.threshold.window, MAX_WINDOW),
             ("ipc.subscriber_buffer", self.ipc.subscriber_buffer, MAX_WINDOW),
-            ("retrain.window", self.retrain.window, MAX_RETRAIN_WINDOW),
-            ("retrain.exact_max_rows", self.retrain.exact_max_rows, MAX_EXACT_ROWS),
+            ("retrain.window", self.retrain.schedule.window, MAX_RETRAIN_WINDOW),
+            ("retrain.exact_max_rows", self.retrain.fit.exact_max_rows, MAX_EXACT_ROWS),
         ] {
             if value > max {
                 return Err(ConfigError(format!("{key}: {value} exceeds the limit {max}")));
@@ -161,12 +160,13 @@ mod tests {
         let text = include_str!("../../configs/adis16405_10hz.toml");
         let c = Config::from_toml(text, "configs/adis16405_10hz.toml").unwrap();
         c.pipeline().unwrap();
-        assert_eq!((c.input.rate_hz, c.motion.rate_dps, c.motion.variance_dps2), (RateSetting::Hz(10.0), 1.0, 0.05));
+        let m = &c.motion.threshold;
+        assert_eq!((c.input.rate_hz, m.rate_dps, m.variance_dps2), (RateSetting::Hz(10.0), 1.0, 0.05));
         let mut expected = Config::default();
-        (expected.input.rate_hz, expected.motion.rate_dps, expected.motion.variance_dps2) =
-            (RateSetting::Hz(10.0), 1.0, 0.05);
+        let e = &mut expected.motion.threshold;
+        (expected.input.rate_hz, e.rate_dps, e.variance_dps2) = (RateSetting::Hz(10.0), 1.0, 0.05);
         expected.motion.detector = DetectorKind::Threshold;
-        expected.drift.estimator = EstimatorKind::CpsoLssvm;
+        expected.drift.kind = EstimatorKind::CpsoLssvm;
         assert_eq!(c, expected);
     }
 

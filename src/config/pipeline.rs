@@ -1,15 +1,18 @@
 //! The pipeline's sections — `[denoise]`, `[embedding]`, `[pipeline]`, `[drift]`, `[motion]`,
 //! `[input]`, `[retrain]` — and the validated settings built from them ([`Config::pipeline`],
-//! [`Config::cpso_lssvm`]).
+//! [`Config::cpso_lssvm`]). `[drift]`, `[motion]`, `[input]` and `[retrain]` deserialise straight
+//! into the runtime types ([`section_keys!`](super::keys) names each key once); each runtime
+//! type validates itself (`validate` beside it), so a key is checked in one place.
 
 use serde::Deserialize;
 
+use super::keys::{by_name, section_keys};
 use super::{Config, ConfigError, DEFAULT_DENOISE_LAG, DEFAULT_DENOISE_WINDOW};
 use crate::model::cpso::{CpsoConfig, CpsoError};
 use crate::model::embed::Embedding;
 use crate::model::lssvm::CpsoLssvm;
 use crate::stream::{
-    CausalConfig, DetectorKind, DriftConfig, EstimatorKind, InputConfig, MotionConfig, PipelineConfig, RetrainMode,
+    CausalConfig, DetectorKind, DriftConfig, InputConfig, MotionConfig, PipelineConfig, RetrainMode,
     RetrainSchedule, StatisticalConfig,
 };
 use crate::wavelet::{DenoiseConfig, Wavelet};
@@ -28,71 +31,50 @@ impl Default for PipelineSection {
     }
 }
 
-/// `[drift]` keys.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct DriftSection {
-    /// `kalman`, `cpso-lssvm`, `bias-hold` or `hybrid`.
-    pub estimator: EstimatorKind,
-    /// Kalman innovation gate: χ²(1) tail probability.
-    pub innovation_gate: f64,
-    /// bias-hold: start-up seconds averaged.
-    pub startup_s: f64,
-    /// Kalman: learn a temperature coefficient when samples carry `temp_c`.
-    pub temperature: bool,
-}
+// `[drift]`: straight into the estimators' [`DriftConfig`] (`estimator` is its `kind`).
+section_keys!(DriftConfig {
+    "estimator" => kind,
+    "innovation_gate" => innovation_gate,
+    "startup_s" => startup_s,
+    "temperature" => temperature,
+});
 
-impl Default for DriftSection {
-    fn default() -> Self {
-        let d = DriftConfig::default();
-        Self { estimator: d.kind, innovation_gate: d.innovation_gate, startup_s: d.startup_s, temperature: d.temperature }
+impl<'de> Deserialize<'de> for RetrainMode {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let modes = [Self::Deterministic, Self::Live].map(|m| (m.name(), m));
+        by_name(d, "retrain.mode", &modes)
     }
 }
 
-/// `[motion]` keys.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// `[motion]`: which detector, and the settings of each, as the detectors take them.
+#[derive(Debug, Clone, PartialEq)]
 pub struct MotionSection {
     /// `statistical` or `threshold`.
     pub detector: DetectorKind,
-    /// statistical: false-alarm probability of each test.
-    pub false_alarm: f64,
-    /// statistical: mean-shift windows, s.
-    pub windows_s: Vec<f64>,
-    /// statistical: variance-test window, s.
-    pub variance_window_s: f64,
-    /// statistical: hysteresis after the last alarm, s.
-    pub settle_s: f64,
-    /// statistical: extra look-back discarded before an onset, s.
-    pub guard_s: f64,
-    /// statistical: seconds of unexplained, unchanging "moving" after which the drift estimate
-    /// is relearnt (0: never).
-    pub relearn_s: f64,
-    /// threshold: |rate − drift| above which a sample is moving, deg/s.
-    pub rate_dps: f64,
-    /// threshold: short-window variance above which a sample is moving, (deg/s)².
-    pub variance_dps2: f64,
-    /// threshold: samples in the variance window.
-    pub window: usize,
+    /// The statistical detector's keys (`false_alarm` … `relearn_s`).
+    pub statistical: StatisticalConfig,
+    /// The threshold gate's keys (`rate_dps`, `variance_dps2`, `window`).
+    pub threshold: MotionConfig,
 }
 
 impl Default for MotionSection {
     fn default() -> Self {
-        let s = StatisticalConfig::default();
-        Self {
-            detector: DetectorKind::Statistical,
-            false_alarm: s.false_alarm,
-            windows_s: s.windows_s,
-            variance_window_s: s.variance_window_s,
-            settle_s: s.settle_s,
-            guard_s: s.guard_s,
-            relearn_s: s.relearn_s,
-            rate_dps: 2.0,
-            variance_dps2: 0.6,
-            window: 20,
-        }
+        Self { detector: DetectorKind::Statistical, statistical: StatisticalConfig::default(), threshold: MotionConfig::default() }
     }
 }
+
+section_keys!(MotionSection {
+    "detector" => detector,
+    "false_alarm" => statistical.false_alarm,
+    "windows_s" => statistical.windows_s,
+    "variance_window_s" => statistical.variance_window_s,
+    "settle_s" => statistical.settle_s,
+    "guard_s" => statistical.guard_s,
+    "relearn_s" => statistical.relearn_s,
+    "rate_dps" => threshold.rate_dps,
+    "variance_dps2" => threshold.variance_dps2,
+    "window" => threshold.window,
+});
 
 /// `[input] rate_hz`: a nominal rate in Hz, or `"auto"` (measured from the first timestamps).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -119,86 +101,69 @@ impl<'de> Deserialize<'de> for RateSetting {
     }
 }
 
-/// `[input]` keys.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// `[input]`: the nominal rate, and the input checks' thresholds as they take them (their
+/// `period_ns` is set from `rate_hz` by [`Config::pipeline`]).
+#[derive(Debug, Clone, PartialEq)]
 pub struct InputSection {
-    /// Largest accepted |rate|, deg/s.
-    pub range_dps: f64,
     /// Nominal sample rate, Hz, or measured.
     pub rate_hz: RateSetting,
-    /// A timestamp step above this many nominal periods is a gap.
-    pub gap_factor: f64,
-    /// Spike threshold in σ of the recent static samples (0 = off).
-    pub spike_z: f64,
-    /// Longest run of outliers rejected as spikes (a longer run is a real change).
-    pub spike_max_run: u32,
-    /// Seconds of one bit-identical value on an axis after which the sensor is stuck (0 = off).
-    pub stuck_s: f64,
+    /// `range_dps`, `gap_factor`, `spike_z`, `spike_max_run`, `stuck_s`.
+    pub check: InputConfig,
 }
 
 impl Default for InputSection {
     fn default() -> Self {
-        Self { range_dps: 2000.0, rate_hz: RateSetting::Auto, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3, stuck_s: 2.0 }
+        Self { rate_hz: RateSetting::Auto, check: InputConfig::default() }
     }
 }
 
-/// `[retrain]` keys.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+section_keys!(InputSection {
+    "range_dps" => check.range_dps,
+    "rate_hz" => rate_hz,
+    "gap_factor" => check.gap_factor,
+    "spike_z" => check.spike_z,
+    "spike_max_run" => check.spike_max_run,
+    "stuck_s" => check.stuck_s,
+});
+
+/// `[retrain]`: the pipeline's retrain schedule and the retrainer's CPSO-LSSVM, as they take
+/// them (the model's embedding is set from `[embedding]` and `denoise.lag` by
+/// [`Config::cpso_lssvm`]), and the retrain thread's nice value.
+#[derive(Debug, Clone, PartialEq)]
 pub struct RetrainSection {
-    /// `deterministic` (every `every_samples`, applied after `apply_delay_samples`) or `live`
-    /// (every `interval_s` of wall time, applied when ready).
-    pub mode: String,
-    /// Static denoised samples per axis in a training window.
-    pub window: usize,
-    /// Deterministic mode: input samples between requests.
-    pub every_samples: u64,
-    /// Live mode: seconds between requests.
-    pub interval_s: f64,
-    /// Deterministic mode: samples between a request and its model's application.
-    pub apply_delay_samples: u64,
-    /// Fewest static samples per axis for a request.
-    pub min_samples: usize,
-    /// Largest number of training rows solved exactly; above, the fixed-size LS-SVM.
-    pub exact_max_rows: usize,
-    /// Prototypes m_p of the fixed-size LS-SVM.
-    pub prototypes: usize,
-    /// CPSO chaotic candidates M.
-    pub cpso_candidates: usize,
-    /// CPSO particles N.
-    pub cpso_particles: usize,
-    /// CPSO iterations t_max.
-    pub cpso_iterations: usize,
-    /// CPSO seed.
-    pub seed: u64,
-    /// Threads for the CPSO fitness evaluations (0 = all cores).
-    pub threads: usize,
+    /// `mode`, `window`, `every_samples`, `interval_s`, `apply_delay_samples`, `min_samples`:
+    /// reloadable (SIGHUP).
+    pub schedule: RetrainSchedule,
+    /// `exact_max_rows`, `prototypes`, `cpso_candidates`, `cpso_particles`, `cpso_iterations`,
+    /// `seed`, `threads` (0 = all cores).
+    pub fit: CpsoLssvm,
     /// Nice value of the retrain thread(s), 0 … 19 (higher = yields the CPU to the sample loop).
     pub nice: i32,
 }
 
 impl Default for RetrainSection {
     fn default() -> Self {
-        let cpso = CpsoConfig::default();
-        Self {
-            mode: "live".into(),
-            window: 4000,
-            every_samples: 6000,
-            interval_s: 60.0,
-            apply_delay_samples: 1000,
-            min_samples: 500,
-            exact_max_rows: 1000,
-            prototypes: 100,
-            cpso_candidates: cpso.candidates,
-            cpso_particles: cpso.particles,
-            cpso_iterations: cpso.iterations,
-            seed: 0,
-            threads: 1,
-            nice: 10,
-        }
+        let fit = CpsoLssvm { cpso: CpsoConfig { threads: 1, ..CpsoConfig::default() }, ..CpsoLssvm::default() };
+        Self { schedule: RetrainSchedule::default(), fit, nice: 10 }
     }
 }
+
+section_keys!(RetrainSection {
+    "mode" => schedule.mode,
+    "window" => schedule.window,
+    "every_samples" => schedule.every_samples,
+    "interval_s" => schedule.interval_s,
+    "apply_delay_samples" => schedule.apply_delay_samples,
+    "min_samples" => schedule.min_samples,
+    "exact_max_rows" => fit.exact_max_rows,
+    "prototypes" => fit.prototypes,
+    "cpso_candidates" => fit.cpso.candidates,
+    "cpso_particles" => fit.cpso.particles,
+    "cpso_iterations" => fit.cpso.iterations,
+    "seed" => fit.cpso.seed,
+    "threads" => fit.cpso.threads,
+    "nice" => nice,
+});
 
 /// `[denoise]` keys.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -237,112 +202,33 @@ impl Default for EmbeddingSection {
 }
 
 impl Config {
-    /// The pipeline settings of `[denoise]`, `[embedding]`, `[pipeline]`, `[motion]`, `[input]`
-    /// and `[retrain]`, validated.
+    /// The pipeline settings of `[denoise]`, `[embedding]`, `[pipeline]`, `[drift]`, `[motion]`,
+    /// `[input]` and `[retrain]`, validated ([`PipelineConfig::validate`]: each setting by the
+    /// guard of its own type).
     pub fn pipeline(&self) -> Result<PipelineConfig, ConfigError> {
-        fn err<T>(m: String) -> Result<T, ConfigError> {
-            Err(ConfigError(m))
-        }
-        let positive = |key: &str, v: f64| {
-            if v > 0.0 && v.is_finite() { Ok(()) } else { err(format!("{key}: {v} must be positive and finite")) }
-        };
         self.limits()?;
-        if self.pipeline.bias_samples == 0 {
-            return err("pipeline.bias_samples must be at least 1".into());
-        }
-        let m = &self.motion;
-        let statistical = StatisticalConfig {
-            false_alarm: m.false_alarm,
-            windows_s: m.windows_s.clone(),
-            variance_window_s: m.variance_window_s,
-            settle_s: m.settle_s,
-            guard_s: m.guard_s,
-            relearn_s: m.relearn_s,
-        };
-        statistical.validate().map_err(ConfigError)?;
-        let d = &self.drift;
-        if !(d.innovation_gate >= crate::model::normal::MIN_PROBABILITY && d.innovation_gate < 0.5) {
-            return err(format!("drift.innovation_gate: {} must lie in [1e-12, 0.5)", d.innovation_gate));
-        }
-        positive("drift.startup_s", d.startup_s)?;
-        positive("motion.rate_dps", m.rate_dps)?;
-        positive("motion.variance_dps2", m.variance_dps2)?;
-        if m.window < 2 {
-            return err(format!("motion.window: {} must be at least 2", m.window));
-        }
-        let i = &self.input;
-        positive("input.range_dps", i.range_dps)?;
-        let period_ns = match i.rate_hz {
+        let period_ns = match self.input.rate_hz {
             RateSetting::Auto => 0,
-            RateSetting::Hz(hz) => {
-                positive("input.rate_hz", hz)?;
-                (1e9 / hz).round().max(1.0) as u64
-            }
+            RateSetting::Hz(hz) if hz > 0.0 && hz.is_finite() => (1e9 / hz).round().max(1.0) as u64,
+            RateSetting::Hz(hz) => return Err(ConfigError(format!("input.rate_hz: {hz} must be positive and finite"))),
         };
-        if !(i.gap_factor > 1.0 && i.gap_factor.is_finite()) {
-            return err(format!("input.gap_factor: {} must be finite and above 1", i.gap_factor));
+        if !(0..=19).contains(&self.retrain.nice) {
+            return Err(ConfigError(format!("retrain.nice: {} is outside 0..=19", self.retrain.nice)));
         }
-        if !(i.spike_z >= 0.0 && i.spike_z.is_finite()) || (i.spike_z > 0.0 && i.spike_z < 3.0) {
-            return err(format!("input.spike_z: {} must be 0 (off) or a finite value of at least 3", i.spike_z));
-        }
-        if !(i.stuck_s == 0.0 || (0.1..=3600.0).contains(&i.stuck_s)) {
-            return err(format!("input.stuck_s: {} must be 0 (off) or lie in [0.1, 3600] s", i.stuck_s));
-        }
-        let r = &self.retrain;
-        if !(0..=19).contains(&r.nice) {
-            return err(format!("retrain.nice: {} is outside 0..=19", r.nice));
-        }
-        let mode = match r.mode.as_str() {
-            "deterministic" => RetrainMode::Deterministic,
-            "live" => RetrainMode::Live,
-            other => return err(format!("retrain.mode: {other:?} is neither \"deterministic\" nor \"live\"")),
-        };
-        let embedding = self.embedding();
-        if r.window < embedding.history() + 3 {
-            return err(format!(
-                "retrain.window: {} is shorter than the embedding needs ({})",
-                r.window,
-                embedding.history() + 3
-            ));
-        }
-        if r.every_samples == 0 {
-            return err("retrain.every_samples must be at least 1".into());
-        }
-        positive("retrain.interval_s", r.interval_s)?;
-        if r.min_samples > r.window {
-            return err(format!("retrain.min_samples: {} exceeds retrain.window {}", r.min_samples, r.window));
-        }
-        self.cpso_lssvm()?;
-        Ok(PipelineConfig {
+        let settings = PipelineConfig {
             causal: self.causal_denoise()?,
-            embedding,
+            embedding: self.embedding(),
             bias_samples: self.pipeline.bias_samples,
-            motion: MotionConfig { rate_dps: m.rate_dps, variance_dps2: m.variance_dps2, window: m.window },
-            detector: m.detector,
-            statistical,
-            drift: DriftConfig {
-                kind: d.estimator,
-                innovation_gate: d.innovation_gate,
-                startup_s: d.startup_s,
-                temperature: d.temperature,
-            },
-            input: InputConfig {
-                range_dps: i.range_dps,
-                period_ns,
-                gap_factor: i.gap_factor,
-                spike_z: i.spike_z,
-                spike_max_run: i.spike_max_run,
-                stuck_s: i.stuck_s,
-            },
-            retrain: RetrainSchedule {
-                mode,
-                window: r.window,
-                every_samples: r.every_samples,
-                interval_s: r.interval_s,
-                apply_delay_samples: r.apply_delay_samples,
-                min_samples: r.min_samples,
-            },
-        })
+            motion: self.motion.threshold,
+            detector: self.motion.detector,
+            statistical: self.motion.statistical.clone(),
+            drift: self.drift.clone(),
+            input: InputConfig { period_ns, ..self.input.check },
+            retrain: self.retrain.schedule,
+        };
+        settings.validate().map_err(ConfigError)?;
+        self.cpso_lssvm()?;
+        Ok(settings)
     }
 
     /// The retrainer's CPSO-LSSVM (paper §2.2) from `[retrain]` and `[embedding]`; the other
@@ -352,31 +238,17 @@ impl Config {
     /// sample — instead of iterating a one-step model L + 1 times, which costs L + 1 evaluations
     /// per sample and compounds its error; CPSO also tunes γ, σ² on the forecast actually used.
     pub fn cpso_lssvm(&self) -> Result<CpsoLssvm, ConfigError> {
-        let r = &self.retrain;
-        if r.prototypes == 0 {
+        let fit = &self.retrain.fit;
+        if fit.prototypes == 0 {
             return Err(ConfigError("retrain.prototypes must be at least 1".into()));
         }
-        let cpso = CpsoConfig {
-            candidates: r.cpso_candidates,
-            particles: r.cpso_particles,
-            iterations: r.cpso_iterations,
-            seed: r.seed,
-            threads: r.threads,
-            ..CpsoConfig::default()
-        };
-        cpso.validate().map_err(|(CpsoError::Config(m) | CpsoError::Bounds(m))| {
+        fit.cpso.validate().map_err(|(CpsoError::Config(m) | CpsoError::Bounds(m))| {
             ConfigError(format!("retrain.cpso_particles/retrain.cpso_candidates: {m}"))
         })?;
-        if r.cpso_iterations == 0 {
+        if fit.cpso.iterations == 0 {
             return Err(ConfigError("retrain.cpso_iterations must be at least 1".into()));
         }
-        Ok(CpsoLssvm {
-            embedding: self.embedding().with_horizon(self.denoise.lag + 1),
-            cpso,
-            exact_max_rows: r.exact_max_rows,
-            prototypes: r.prototypes,
-            ..CpsoLssvm::default()
-        })
+        Ok(CpsoLssvm { embedding: self.embedding().with_horizon(self.denoise.lag + 1), ..fit.clone() })
     }
 
     /// The batch denoiser settings of `[denoise]`.

@@ -8,15 +8,20 @@
 //! - [`reload`]: applying a reloaded configuration to a running pipeline.
 //! - [`instance_lock`]: the state directory's lock (one daemon per state directory).
 //! - [`state`]: the model snapshot file (atomic writes on a writer thread, loading at start).
-//! - [`run`]: start-up and the loop.
+//! - [`errors`]: why the daemon could not start.
+//! - [`run`]: the loop; `startup.rs` builds what it runs on, `worker.rs` answers each sample.
 
 pub mod convert;
+pub mod errors;
 pub mod instance_lock;
 pub mod logging;
 pub mod reload;
 pub mod run;
 pub mod signals;
+mod startup;
 pub mod state;
+mod worker;
 
-pub use run::{Daemon, DaemonError, RunSummary};
+pub use errors::DaemonError;
+pub use run::{Daemon, RunSummary};
 pub use signals::Signals;

@@ -27,13 +27,7 @@ pub fn apply(pipeline: &mut Pipeline, running: &Config, new: &Config) -> Result<
     let mut effective = running.clone();
     effective.motion = new.motion.clone();
     effective.input = new.input.clone();
-    let (r, n) = (&mut effective.retrain, &new.retrain);
-    r.mode.clone_from(&n.mode);
-    r.window = n.window;
-    r.every_samples = n.every_samples;
-    r.interval_s = n.interval_s;
-    r.apply_delay_samples = n.apply_delay_samples;
-    r.min_samples = n.min_samples;
+    effective.retrain.schedule = new.retrain.schedule;
 
     let mut needs_restart = Vec::new();
     let sections: [(&'static str, bool); 7] = [
@@ -62,23 +56,23 @@ mod tests {
         let running = Config::paper();
         let mut pipeline = Pipeline::new(running.pipeline().unwrap()).unwrap();
         let mut new = running.clone();
-        new.motion.rate_dps = 3.0;
-        new.input.range_dps = 500.0;
-        new.retrain.every_samples = 123;
+        new.motion.threshold.rate_dps = 3.0;
+        new.input.check.range_dps = 500.0;
+        new.retrain.schedule.every_samples = 123;
         new.denoise.window = 128;
-        new.retrain.prototypes = 50;
+        new.retrain.fit.prototypes = 50;
         let out = apply(&mut pipeline, &running, &new).unwrap();
         assert_eq!(pipeline.config().motion.rate_dps, 3.0);
         assert_eq!(pipeline.config().input.range_dps, 500.0);
         assert_eq!(pipeline.config().retrain.every_samples, 123);
         assert_eq!(out.needs_restart, ["denoise", "retrain (model keys)"]);
-        assert_eq!(out.effective.motion.rate_dps, 3.0);
+        assert_eq!(out.effective.motion.threshold.rate_dps, 3.0);
         assert_eq!(out.effective.denoise, running.denoise);
 
         // A window beyond the allocated history is refused, and nothing is applied.
         let mut too_big = new.clone();
-        too_big.retrain.window = 100_000;
-        too_big.motion.rate_dps = 9.0;
+        too_big.retrain.schedule.window = 100_000;
+        too_big.motion.threshold.rate_dps = 9.0;
         let err = apply(&mut pipeline, &out.effective, &too_big).unwrap_err();
         assert!(err.0.contains("retrain.window"), "{err}");
         assert_eq!(pipeline.config().motion.rate_dps, 3.0);

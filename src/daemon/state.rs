@@ -18,7 +18,8 @@ use std::thread::JoinHandle;
 use crossbeam_channel::{Sender, TrySendError, bounded};
 
 use crate::stream::InstalledModel;
-use crate::stream::snapshot::{AxisWarm, Compat, Snapshot, SnapshotError, StreamWarm};
+use crate::stream::snapshot::{Compat, Snapshot, SnapshotError};
+use crate::stream::warm::{AxisWarm, StreamWarm};
 
 /// File name of the snapshot inside the state directory.
 pub const SNAPSHOT_FILE: &str = "gyrocompd.snapshot";

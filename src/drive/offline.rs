@@ -12,6 +12,7 @@
 
 use super::build::{BuildError, build_pipeline};
 use crate::stream::pipeline::{Pipeline, PipelineStats};
+use crate::stream::retrain::RetrainMode;
 use crate::stream::sample::{InputSample, OutputSample};
 use crate::config::Config;
 use crate::io::Recording;
@@ -25,21 +26,19 @@ pub struct OfflineRun {
     pub model_version: u64,
 }
 
-/// Name of the deterministic retrain mode in the configuration.
-const DETERMINISTIC: &str = "deterministic";
-
 /// `config` as offline runs use it: `retrain.mode = "deterministic"` (module documentation);
 /// logs a note when the mode was something else.
 pub fn offline_config(config: &Config) -> Config {
     let mut config = config.clone();
-    if config.retrain.mode != DETERMINISTIC {
+    let schedule = &mut config.retrain.schedule;
+    if schedule.mode != RetrainMode::Deterministic {
         tracing::info!(
-            configured = %config.retrain.mode,
-            every_samples = config.retrain.every_samples,
-            apply_delay_samples = config.retrain.apply_delay_samples,
+            configured = %schedule.mode,
+            every_samples = schedule.every_samples,
+            apply_delay_samples = schedule.apply_delay_samples,
             "offline run: retrain.mode = \"deterministic\" (every_samples, apply_delay_samples) so that runs are reproducible"
         );
-        config.retrain.mode = DETERMINISTIC.into();
+        schedule.mode = RetrainMode::Deterministic;
     }
     config
 }

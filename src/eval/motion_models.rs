@@ -176,7 +176,7 @@ fn pipeline(model: MotionModel, config: &Config) -> Result<Pipeline, BuildError>
         MotionModel::Gyrocomp | MotionModel::GyrocompFlagged => return build_pipeline(config),
         MotionModel::CpsoLssvm | MotionModel::Hybrid => {
             let mut c = config.clone();
-            c.drift.estimator =
+            c.drift.kind =
                 if model == MotionModel::Hybrid { EstimatorKind::Hybrid } else { EstimatorKind::CpsoLssvm };
             return build_pipeline(&c);
         }

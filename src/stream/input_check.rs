@@ -82,6 +82,33 @@ pub struct InputConfig {
     pub stuck_s: f64,
 }
 
+impl Default for InputConfig {
+    /// The configuration's defaults; the period not known yet.
+    fn default() -> Self {
+        Self { range_dps: 2000.0, period_ns: 0, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3, stuck_s: 2.0 }
+    }
+}
+
+impl InputConfig {
+    /// Checks the thresholds (not the period, which comes from `input.rate_hz` or is measured);
+    /// the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.range_dps > 0.0 && self.range_dps.is_finite()) {
+            return Err(format!("input.range_dps: {} must be positive and finite", self.range_dps));
+        }
+        if !(self.gap_factor > 1.0 && self.gap_factor.is_finite()) {
+            return Err(format!("input.gap_factor: {} must be finite and above 1", self.gap_factor));
+        }
+        if !(self.spike_z >= 0.0 && self.spike_z.is_finite()) || (self.spike_z > 0.0 && self.spike_z < 3.0) {
+            return Err(format!("input.spike_z: {} must be 0 (off) or a finite value of at least 3", self.spike_z));
+        }
+        if !(self.stuck_s == 0.0 || (0.1..=3600.0).contains(&self.stuck_s)) {
+            return Err(format!("input.stuck_s: {} must be 0 (off) or lie in [0.1, 3600] s", self.stuck_s));
+        }
+        Ok(())
+    }
+}
+
 /// Counts of what the input checks found (totals since start).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct InputCounters {

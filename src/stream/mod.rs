@@ -14,10 +14,12 @@ pub mod motion_gate;
 pub mod pending;
 pub mod period;
 pub mod pipeline;
+mod registry;
 pub mod retrain;
 pub mod ring;
 pub mod sample;
 pub mod snapshot;
+pub mod warm;
 
 pub use calibration::NoiseCalibration;
 pub use causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser, denoise_causal};

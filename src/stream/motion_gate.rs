@@ -24,6 +24,27 @@ pub struct MotionConfig {
     pub window: usize,
 }
 
+impl Default for MotionConfig {
+    fn default() -> Self {
+        Self { rate_dps: 2.0, variance_dps2: 0.6, window: 20 }
+    }
+}
+
+impl MotionConfig {
+    /// Checks the values; the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        for (key, v) in [("motion.rate_dps", self.rate_dps), ("motion.variance_dps2", self.variance_dps2)] {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(format!("{key}: {v} must be positive and finite"));
+            }
+        }
+        if self.window < 2 {
+            return Err(format!("motion.window: {} must be at least 2", self.window));
+        }
+        Ok(())
+    }
+}
+
 /// Per-sample motion detector for three axes; allocates only in [`MotionGate::new`].
 #[derive(Debug, Clone)]
 pub struct MotionGate {

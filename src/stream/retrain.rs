@@ -33,6 +33,22 @@ pub enum RetrainMode {
     Live,
 }
 
+impl RetrainMode {
+    /// The name in the configuration (`retrain.mode`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Deterministic => "deterministic",
+            Self::Live => "live",
+        }
+    }
+}
+
+impl std::fmt::Display for RetrainMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The retrain schedule (`[retrain]` in the configuration).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RetrainSchedule {
@@ -48,6 +64,39 @@ pub struct RetrainSchedule {
     pub apply_delay_samples: u64,
     /// Fewest static samples per axis for a request to be sent (fewer: the request is skipped).
     pub min_samples: usize,
+}
+
+impl Default for RetrainSchedule {
+    fn default() -> Self {
+        Self {
+            mode: RetrainMode::Live,
+            window: 4000,
+            every_samples: 6000,
+            interval_s: 60.0,
+            apply_delay_samples: 1000,
+            min_samples: 500,
+        }
+    }
+}
+
+impl RetrainSchedule {
+    /// Checks the values against each other and against the `history` samples a model reads
+    /// (the embedding's); the message names the key.
+    pub fn validate(&self, history: usize) -> Result<(), String> {
+        if self.window < history + 3 {
+            return Err(format!("retrain.window: {} is shorter than the embedding needs ({})", self.window, history + 3));
+        }
+        if self.every_samples == 0 {
+            return Err("retrain.every_samples must be at least 1".into());
+        }
+        if !(self.interval_s > 0.0 && self.interval_s.is_finite()) {
+            return Err(format!("retrain.interval_s: {} must be positive and finite", self.interval_s));
+        }
+        if self.min_samples > self.window {
+            return Err(format!("retrain.min_samples: {} exceeds retrain.window {}", self.min_samples, self.window));
+        }
+        Ok(())
+    }
 }
 
 /// A training job: one window per axis (raw units, denoised, static samples only).

@@ -28,7 +28,7 @@ use super::{DriftEstimate, DriftEstimator, KalmanBias, KalmanCounters, PendingMe
 use crate::stream::calibration::NoiseCalibration;
 use crate::stream::model_slot::ModelSlot;
 use crate::stream::ring::RingBuffer;
-use crate::stream::snapshot::AxisWarm;
+use crate::stream::warm::AxisWarm;
 
 /// Seconds of committed static data per block mean of the series the model learns.
 pub const BLOCK_S: f64 = 10.0;

@@ -36,7 +36,7 @@
 use super::{DriftEstimate, DriftEstimator, PendingMean};
 use crate::model::normal::chi2_upper;
 use crate::stream::calibration::NoiseCalibration;
-use crate::stream::snapshot::AxisWarm;
+use crate::stream::warm::AxisWarm;
 
 /// Innovation statistics of a [`KalmanBias`].
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -33,7 +33,7 @@ pub use startup_hold::StartupHold;
 
 use super::calibration::NoiseCalibration;
 use super::model_slot::ModelSlot;
-use super::snapshot::AxisWarm;
+use super::warm::AxisWarm;
 
 /// The samples seen as static since the last commit (not yet confirmed): count and sum of the
 /// raw rates, deg/s.
@@ -195,5 +195,18 @@ pub struct DriftConfig {
 impl Default for DriftConfig {
     fn default() -> Self {
         Self { kind: EstimatorKind::Kalman, innovation_gate: 1e-6, startup_s: 60.0, temperature: true }
+    }
+}
+
+impl DriftConfig {
+    /// Checks the values; the message names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.innovation_gate >= crate::model::normal::MIN_PROBABILITY && self.innovation_gate < 0.5) {
+            return Err(format!("drift.innovation_gate: {} must lie in [1e-12, 0.5)", self.innovation_gate));
+        }
+        if !(self.startup_s > 0.0 && self.startup_s.is_finite()) {
+            return Err(format!("drift.startup_s: {} must be positive and finite", self.startup_s));
+        }
+        Ok(())
     }
 }

@@ -17,7 +17,7 @@ use crate::stream::calibration::NoiseCalibration;
 use crate::stream::causal_denoise::{CausalConfig, CausalConfigError, CausalDenoiser};
 use crate::stream::model_slot::ModelSlot;
 use crate::stream::ring::RingBuffer;
-use crate::stream::snapshot::AxisWarm;
+use crate::stream::warm::AxisWarm;
 
 /// One axis of the model forecaster. Every buffer is allocated in [`ModelForecast::new`]; the
 /// per-sample methods allocate nothing.

@@ -4,7 +4,7 @@
 
 use super::{DriftEstimate, DriftEstimator, PendingMean};
 use crate::stream::calibration::NoiseCalibration;
-use crate::stream::snapshot::AxisWarm;
+use crate::stream::warm::AxisWarm;
 
 /// Start-up mean, then held (module documentation).
 #[derive(Debug, Clone)]

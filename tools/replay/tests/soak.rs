@@ -64,12 +64,12 @@ fn rss_bytes() -> Option<u64> {
 /// retrainer) at 1 kHz, or the CPSO-LSSVM estimator retraining deterministically.
 fn daemon_config(estimator: EstimatorKind) -> Config {
     let mut config = if estimator == EstimatorKind::CpsoLssvm { Config::paper() } else { Config::default() };
-    config.drift.estimator = estimator;
+    config.drift.kind = estimator;
     config.input.rate_hz = gyrocomp::config::RateSetting::Hz(RATE_HZ);
     if estimator.uses_models() {
-        config.retrain.mode = "deterministic".into();
-        config.retrain.every_samples = RETRAIN_EVERY;
-        config.retrain.apply_delay_samples = 1000;
+        config.retrain.schedule.mode = gyrocomp::stream::RetrainMode::Deterministic;
+        config.retrain.schedule.every_samples = RETRAIN_EVERY;
+        config.retrain.schedule.apply_delay_samples = 1000;
     }
     config
 }

@@ -41,37 +41,37 @@
 //! a pipeline restored before its first sample continues the stored sample index and gives the
 //! output the stored one would have given.
 //!
-//! Retraining: see [`RetrainSchedule`]. Requests are made after sample index i when due, with
+//! Retraining: see [`RetrainSchedule`](super::RetrainSchedule) and `retrain.rs`. Requests are made after sample index i when due, with
 //! snapshots of the training windows; in deterministic mode the result is installed right before
 //! sample `i + apply_delay_samples` (waiting for the trainer if necessary); in live mode at the
 //! first sample after it arrives. A request due while another is pending is skipped and counted.
 //!
 //! No heap allocation per sample: buffers are allocated in [`Pipeline::new`]; only retrain
 //! requests (every `every_samples`) copy the windows (tests/pipeline.rs counts allocations).
+//!
+//! Files: this one holds the per-sample path; `config.rs` the settings, counters and errors;
+//! `retrain.rs` the retrain schedule and model installation; `restore.rs` the warm state handed
+//! out for a snapshot and taken back.
 
-use std::fmt;
+mod config;
+mod restore;
+mod retrain;
+
 use std::sync::Arc;
 use std::time::Instant;
 
+pub use config::{PipelineConfig, PipelineError, PipelineStats};
+
 use super::calibration::NoiseCalibration;
-use super::causal_denoise::CausalConfig;
-use super::detector::{
-    Decision, DetectorCounters, DetectorInput, DetectorKind, MotionDetector, StatisticalConfig, StatisticalDetector,
-    ThresholdDetector,
-};
-use super::drift::{
-    DriftConfig, DriftEstimate, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold,
-};
-use crate::model::embed::Embedding;
-use super::input_check::{InputCheck, InputConfig, InputCounters};
-use super::model_slot::{InstalledModel, ModelSlot, SharedModel};
+use super::detector::{Decision, DetectorInput, MotionDetector};
+use super::drift::{DriftEstimate, DriftEstimator};
+use super::input_check::{InputCheck, InputConfig};
+use super::model_slot::ModelSlot;
 use super::motion_gate::MotionConfig;
 use super::pending::PendingQueue;
 use super::period::PeriodEstimate;
-use super::retrain::{RetrainMode, RetrainSchedule, TrainRequest, TrainResult, Trainer, TrainerError};
+use super::retrain::Trainer;
 use super::sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_MOVING, STATUS_NO_MODEL, STATUS_REJECTED};
-use super::snapshot::{AxisWarm, StreamWarm};
-use crate::model::scaler::MinMaxScaler;
 
 /// The shortest τ\* a drift estimator may track at, as a fraction of the detector's longest
 /// window ([`NoiseCalibration::set_min_block`]). 1 keeps a tracker from following any rotation
@@ -81,103 +81,7 @@ use crate::model::scaler::MinMaxScaler;
 /// 0.59×, 0.57×, 0.62× bias-hold, whole-run 1.02×, 0.35×, 0.43×), never on reported recordings.
 pub const MIN_TRACKING_FRACTION: f64 = 0.3;
 
-/// Everything the pipeline needs (built from [`crate::config::Config::pipeline`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PipelineConfig {
-    /// Causal denoiser of each axis.
-    pub causal: CausalConfig,
-    /// PSR embedding of the models (sets the least history kept).
-    pub embedding: Embedding,
-    /// Samples the running static bias estimate averages (used before the first model).
-    pub bias_samples: u64,
-    /// Thresholds of the `threshold` detector.
-    pub motion: MotionConfig,
-    /// Which static/moving detector.
-    pub detector: DetectorKind,
-    /// Settings of the `statistical` detector.
-    pub statistical: StatisticalConfig,
-    /// Which drift estimator, and its settings.
-    pub drift: DriftConfig,
-    /// Input validation and gaps.
-    pub input: InputConfig,
-    /// Retrain schedule (used once a trainer is attached).
-    pub retrain: RetrainSchedule,
-}
 
-/// Counters of what the pipeline has done.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct PipelineStats {
-    /// Samples processed.
-    pub samples: u64,
-    /// Rejected samples (status bit 2), all causes.
-    pub rejected: u64,
-    /// Moving samples (status bit 1).
-    pub moving: u64,
-    /// Gaps detected (status bit 3).
-    pub gaps: u64,
-    /// What the input checks found, by cause.
-    pub input: InputCounters,
-    /// Retrain requests sent.
-    pub retrain_requests: u64,
-    /// Retrain requests skipped because the previous one was still running.
-    pub retrain_skipped: u64,
-    /// Retrain requests not sent for want of static samples (< `min_samples`).
-    pub retrain_starved: u64,
-    /// Fits that failed (the old model was kept).
-    pub retrain_failed: u64,
-    /// Successful retrains installed.
-    pub models_installed: u64,
-    /// Static samples committed to the drift estimators.
-    pub committed: u64,
-    /// Pending static samples discarded as the lead-in of a detected motion.
-    pub discarded: u64,
-    /// What the static detector did.
-    pub detector: DetectorCounters,
-}
-
-/// Why a pipeline could not be built or a model installed.
-#[derive(Debug, Clone, PartialEq)]
-pub enum PipelineError {
-    /// A configuration value is unusable; the message names it.
-    Config(String),
-    /// Axis index not in 0..3.
-    NoSuchAxis(usize),
-    /// The model forecasts neither one step nor the pipeline's L + 1 steps ahead.
-    HorizonMismatch {
-        /// The model's horizon.
-        model: usize,
-        /// The pipeline's horizon (denoiser lag + 1).
-        pipeline: usize,
-    },
-    /// The estimator takes no models (its name).
-    NoModels(&'static str),
-    /// The model needs more history than the pipeline keeps.
-    HistoryTooLong {
-        /// Samples the model reads.
-        need: usize,
-        /// Samples kept.
-        kept: usize,
-    },
-}
-
-impl fmt::Display for PipelineError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Config(m) => f.write_str(m),
-            Self::NoSuchAxis(a) => write!(f, "axis {a} does not exist (0, 1, 2)"),
-            Self::NoModels(name) => write!(f, "the {name} drift estimator takes no models"),
-            Self::HorizonMismatch { model, pipeline } => write!(
-                f,
-                "model forecasts {model} samples ahead; the pipeline needs 1 (iterated) or {pipeline} (denoise.lag + 1)"
-            ),
-            Self::HistoryTooLong { need, kept } => {
-                write!(f, "model reads {need} samples of history, the pipeline keeps {kept}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for PipelineError {}
 
 /// One axis: its drift estimator and the values held for moving and rejected samples.
 #[derive(Debug)]
@@ -240,26 +144,13 @@ impl Pipeline {
         let history = config.retrain.window.max(config.embedding.history());
         let period = PeriodEstimate::new(config.input.period_ns);
         let axis = || -> Result<AxisState, PipelineError> {
-            let estimator: Box<dyn DriftEstimator> = match config.drift.kind {
-                EstimatorKind::Kalman => {
-                    Box::new(KalmanBias::new(config.drift.innovation_gate, config.drift.temperature))
-                }
-                EstimatorKind::BiasHold => Box::new(StartupHold::new(config.drift.startup_s)),
-                EstimatorKind::Hybrid => {
-                    Box::new(HybridForecast::new(config.drift.innovation_gate, config.drift.temperature, history))
-                }
-                EstimatorKind::CpsoLssvm => Box::new(
-                    ModelForecast::new(config.causal.clone(), history, config.bias_samples)
-                        .map_err(|e| PipelineError::Config(e.to_string()))?,
-                ),
-            };
+            let estimator = (config.drift.kind)
+                .build(&config.drift, &config.causal, history, config.bias_samples)
+                .map_err(PipelineError::Config)?;
             Ok(AxisState { estimator, drift: 0.0, comp: 0.0, from_model: false, std: f64::INFINITY })
         };
         let axes = [axis()?, axis()?, axis()?];
-        let detector: Box<dyn MotionDetector> = match config.detector {
-            DetectorKind::Statistical => Box::new(StatisticalDetector::new(config.statistical.clone())),
-            DetectorKind::Threshold => Box::new(ThresholdDetector::new(config.motion)),
-        };
+        let detector = config.detector.build(&config.statistical, config.motion);
         let known = period.period_s();
         let mut pipeline = Self {
             noise: Default::default(),
@@ -296,13 +187,6 @@ impl Pipeline {
         }
     }
 
-    /// Attaches a background trainer; from now on retraining follows `config.retrain`.
-    pub fn attach_trainer(&mut self, trainer: Trainer) {
-        self.trainer = Some(trainer);
-        self.pending = None;
-        self.last_request = Instant::now();
-    }
-
     /// Applies new motion-gate and input thresholds from the next sample on (a reloaded
     /// configuration); buffers, models and counters are kept (see [`MotionGate::reconfigure`](crate::stream::MotionGate::reconfigure)).
     pub fn update_thresholds(&mut self, motion: MotionConfig, input: InputConfig) {
@@ -311,23 +195,6 @@ impl Pipeline {
         self.check.reconfigure(input);
         self.config.motion = motion;
         self.config.input = input;
-    }
-
-    /// Applies a new retrain schedule from the next sample on; a pending request keeps running.
-    /// Refused when `schedule.window` exceeds the history allocated in [`Pipeline::new`].
-    pub fn set_retrain_schedule(&mut self, schedule: RetrainSchedule) -> Result<(), PipelineError> {
-        let kept = self.axes[0].estimator.max_model_history();
-        if self.config.drift.kind.uses_models() && schedule.window > kept {
-            return Err(PipelineError::Config(format!(
-                "retrain.window: {} exceeds the {kept} samples of history kept since start",
-                schedule.window
-            )));
-        }
-        if schedule.min_samples > schedule.window || schedule.every_samples == 0 {
-            return Err(PipelineError::Config("retrain: need every_samples >= 1 and min_samples <= window".into()));
-        }
-        self.config.retrain = schedule;
-        Ok(())
     }
 
     /// The settings.
@@ -371,131 +238,6 @@ impl Pipeline {
     /// estimator takes no models).
     pub fn model_slot(&self, axis: usize) -> Option<Arc<ModelSlot>> {
         self.axes.get(axis).and_then(|a| a.estimator.model_slot()).map(Arc::clone)
-    }
-
-    /// Installs a model (normalised units) and the scaler of its training window on one axis.
-    pub fn install_model(
-        &mut self,
-        axis: usize,
-        model: SharedModel,
-        scaler: MinMaxScaler,
-        version: u64,
-    ) -> Result<(), PipelineError> {
-        let a = self.axes.get(axis).ok_or(PipelineError::NoSuchAxis(axis))?;
-        let Some(slot) = a.estimator.model_slot() else {
-            return Err(PipelineError::NoModels(a.estimator.name()));
-        };
-        let (need, kept) = (model.history_len(), a.estimator.max_model_history());
-        if need > kept {
-            return Err(PipelineError::HistoryTooLong { need, kept });
-        }
-        let (horizon, steps) = (model.horizon(), a.estimator.model_steps());
-        if horizon != 1 && horizon != steps {
-            return Err(PipelineError::HorizonMismatch { model: horizon, pipeline: steps });
-        }
-        slot.install(InstalledModel { model, scaler, version });
-        self.next_version = self.next_version.max(version + 1);
-        Ok(())
-    }
-
-    /// Copies of each axis' buffers (denoiser window, static history) and running values (bias
-    /// estimate and its variance, temperature term, self-calibration, held drift), for a
-    /// snapshot: see [`crate::stream::snapshot`].
-    pub fn warm_state(&self) -> [AxisWarm; 3] {
-        std::array::from_fn(|k| {
-            let a = &self.axes[k];
-            let mut w = AxisWarm {
-                drift: a.drift,
-                comp: a.comp,
-                from_model: a.from_model,
-                drift_std: a.std,
-                noise: self.noise[k].clone(),
-                ..AxisWarm::default()
-            };
-            a.estimator.warm(&mut w);
-            w
-        })
-    }
-
-    /// A copy of the state shared by the axes (sample index, period, pending queue, detector,
-    /// input checks), for a snapshot.
-    pub fn stream_state(&self) -> StreamWarm {
-        StreamWarm {
-            index: self.first_index + self.stats.samples,
-            period: self.period.clone(),
-            horizon: self.horizon,
-            pending: self.queue.state(),
-            detector: self.detector.state(),
-            input: self.check.state(),
-        }
-    }
-
-    /// Restores what [`Pipeline::warm_state`] and [`Pipeline::stream_state`] copied into a
-    /// pipeline that has processed no sample (models are installed separately with
-    /// [`Pipeline::install_model`]): the next sample continues the stored sample index, so the
-    /// restored pipeline gives the output the stored one would have given (the first sample
-    /// after a restart is flagged as a gap when `seq` or time skipped while it was down).
-    /// Refused when a value is not finite or the stored detector, period or windows do not
-    /// fit this configuration; the checks that need the sized windows run part-way, so on an
-    /// error the pipeline must be rebuilt ([`Snapshot::restore_into`](crate::stream::snapshot::Snapshot::restore_into)
-    /// tries a scratch pipeline first and leaves its target unchanged).
-    pub fn restore_state(&mut self, warm: &[AxisWarm; 3], stream: &StreamWarm) -> Result<(), PipelineError> {
-        let bad = |m: String| Err(PipelineError::Config(m));
-        if let Some(axis) = warm.iter().position(|w| !w.is_finite()) {
-            return bad(format!("warm state of axis {axis} holds a non-finite value"));
-        }
-        if !stream.is_valid() {
-            return bad("the stored pending samples, detector or input state hold a non-finite value".into());
-        }
-        if stream.detector.kind() != self.config.detector {
-            return bad(format!(
-                "motion.detector: the snapshot holds a {} detector's state, the pipeline runs {}",
-                stream.detector.kind().name(),
-                self.config.detector.name()
-            ));
-        }
-        if self.stats.samples > 0 {
-            return bad("a snapshot is restored before the first sample only".into());
-        }
-        match (self.period.period_s(), stream.period.period_s()) {
-            (Some(now), Some(stored)) if now != stored => {
-                return bad(format!("input.rate_hz: period {stored} s stored, {now} s running"));
-            }
-            (None, Some(t)) => {
-                self.period = stream.period.clone();
-                let period_ns = (t * 1e9).round() as u64;
-                let input = InputConfig { period_ns, ..*self.check.config() };
-                self.check.reconfigure(input);
-                self.apply_period(t);
-            }
-            (None, None) => self.period = stream.period.clone(),
-            _ => {}
-        }
-        self.detector.restore_state(&stream.detector).map_err(PipelineError::Config)?;
-        self.queue.restore(&stream.pending).map_err(PipelineError::Config)?;
-        for ((a, w), noise) in self.axes.iter_mut().zip(warm).zip(&mut self.noise) {
-            a.estimator.restore(w);
-            (a.drift, a.comp, a.from_model, a.std) = (w.drift, w.comp, w.from_model, w.drift_std);
-            *noise = w.noise.clone();
-        }
-        self.check.restore(&stream.input);
-        self.horizon = stream.horizon;
-        self.first_index = stream.index;
-        Ok(())
-    }
-
-    /// The training window of one axis: the last `retrain.window` static denoised samples
-    /// (raw units, oldest first); empty for a bad axis index.
-    pub fn training_window(&self, axis: usize) -> Vec<f64> {
-        self.axes.get(axis).map_or_else(Vec::new, |a| {
-            let h = a.estimator.training_history();
-            h[h.len().saturating_sub(self.config.retrain.window)..].to_vec()
-        })
-    }
-
-    /// The three training windows.
-    pub fn training_windows(&self) -> [Vec<f64>; 3] {
-        [self.training_window(0), self.training_window(1), self.training_window(2)]
     }
 
     /// Processes one sample and returns its output (never NaN, same `seq`).
@@ -643,91 +385,6 @@ impl Pipeline {
             a.estimator.commit(index, rate[k], &self.noise[k]);
         }
     }
-
-    /// Applies a finished retrain: deterministic mode at exactly `request + apply_delay`
-    /// (waiting if needed), live mode whenever one has arrived.
-    fn poll_trainer(&mut self) {
-        let (Some(trainer), Some(pending)) = (&self.trainer, self.pending) else { return };
-        let result = match self.config.retrain.mode {
-            RetrainMode::Deterministic => {
-                if self.stats.samples < pending.request_index + self.config.retrain.apply_delay_samples {
-                    return;
-                }
-                trainer.recv()
-            }
-            RetrainMode::Live => match trainer.try_recv() {
-                Ok(Some(r)) => Some(r),
-                Ok(None) => return,
-                Err(_) => None,
-            },
-        };
-        self.pending = None;
-        match result {
-            Some(r) => self.apply(r),
-            None => {
-                tracing::error!("retrain thread stopped; keeping the current models");
-                self.trainer = None;
-            }
-        }
-    }
-
-    fn apply(&mut self, result: TrainResult) {
-        match result.outcome {
-            Ok(fitted) => {
-                let version = self.next_version;
-                for (axis, f) in fitted.into_iter().enumerate() {
-                    if let Err(e) = self.install_model(axis, f.model, f.scaler, version) {
-                        tracing::warn!(axis, error = %e, "retrained model refused; keeping the old one");
-                    }
-                }
-                self.stats.models_installed += 1;
-                tracing::info!(
-                    version,
-                    request_index = result.request_index,
-                    at = self.stats.samples,
-                    "model installed"
-                );
-            }
-            Err(why) => {
-                self.stats.retrain_failed += 1;
-                tracing::warn!(request_index = result.request_index, %why, "retrain failed; keeping the old model");
-            }
-        }
-    }
-
-    fn maybe_request(&mut self) {
-        let Some(trainer) = &self.trainer else { return };
-        let s = &self.config.retrain;
-        let due = match s.mode {
-            RetrainMode::Deterministic => s.every_samples > 0 && self.stats.samples.is_multiple_of(s.every_samples),
-            RetrainMode::Live => self.last_request.elapsed().as_secs_f64() >= s.interval_s,
-        };
-        if !due {
-            return;
-        }
-        self.last_request = Instant::now();
-        if self.pending.is_some() {
-            self.stats.retrain_skipped += 1;
-            tracing::debug!(at = self.stats.samples, "retrain due while the previous one runs: skipped");
-            return;
-        }
-        if self.axes.iter().any(|a| a.estimator.training_history().len().min(s.window) < s.min_samples) {
-            self.stats.retrain_starved += 1;
-            return;
-        }
-        let request = TrainRequest { request_index: self.stats.samples, windows: self.training_windows() };
-        match trainer.try_send(request) {
-            Ok(()) => {
-                self.stats.retrain_requests += 1;
-                self.pending = Some(Pending { request_index: self.stats.samples });
-            }
-            Err(TrainerError::Busy) => self.stats.retrain_skipped += 1,
-            Err(TrainerError::Stopped) => {
-                tracing::error!("retrain thread stopped; keeping the current models");
-                self.trainer = None;
-            }
-        }
-    }
 }
 
 #[cfg(test)]
@@ -735,11 +392,13 @@ mod tests {
     use super::*;
     use crate::config::Config;
     use crate::model::Predict;
+    use crate::model::scaler::MinMaxScaler;
+    use crate::stream::retrain::RetrainMode;
 
     fn pipeline() -> Pipeline {
         let mut c = Config::paper();
-        c.retrain.window = 100;
-        c.retrain.min_samples = 50;
+        c.retrain.schedule.window = 100;
+        c.retrain.schedule.min_samples = 50;
         Pipeline::new(c.pipeline().unwrap()).unwrap()
     }
 

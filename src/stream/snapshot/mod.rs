@@ -22,20 +22,19 @@
 //! Decoding trusts nothing: header, length, checksum, a size-limited decode with no trailing
 //! bytes, then [`Snapshot::validate`]; [`Snapshot::restore_into`] also checks the running
 //! configuration against [`Compat`] before it changes the pipeline.
+//!
+//! Files: this one holds the content (the types, [`Compat`], [`Snapshot::validate`]);
+//! `format.rs` the bytes ([`Snapshot::encode`], [`Snapshot::decode`]); `restore.rs` the capture
+//! from and the checked restore into a pipeline; the warm state itself is [`super::warm`].
 
-use std::sync::Arc;
+mod format;
+mod restore;
 
 use serde::{Deserialize, Serialize};
 
-use super::calibration::NoiseCalibration;
-use super::detector::DetectorState;
-use super::input_check::InputState;
+use super::pipeline::PipelineConfig;
+use super::warm::{AxisWarm, StreamWarm};
 use crate::model::embed::Embedding;
-use super::model_slot::InstalledModel;
-use super::pending::PendingState;
-use super::period::PeriodEstimate;
-use super::pipeline::{Pipeline, PipelineConfig};
-use crate::model::Predict;
 use crate::model::scaler::MinMaxScaler;
 use crate::model::snapshot::ModelState;
 
@@ -103,85 +102,6 @@ impl Compat {
         cmp("drift.estimator", self.estimator.clone(), running.estimator.clone());
         cmp("motion.detector", self.detector.clone(), running.detector.clone());
         if diffs.is_empty() { Ok(()) } else { Err(SnapshotError::Incompatible(diffs.join("; "))) }
-    }
-}
-
-/// One axis' pipeline state beside its model (see the module documentation); each drift
-/// estimator fills the fields it uses and leaves the others at their defaults.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct AxisWarm {
-    /// Raw static samples in the causal denoiser's window, oldest first.
-    pub denoiser_window: Vec<f64>,
-    /// Static denoised samples (model input and training window), oldest first.
-    pub history: Vec<f64>,
-    /// Bias estimate: the running static mean (cpso-lssvm's fallback), the Kalman state, or
-    /// the start-up mean.
-    pub bias: f64,
-    /// Samples the bias estimate has averaged (cpso-lssvm: capped at `pipeline.bias_samples`).
-    pub bias_count: u64,
-    /// Kalman: variance of `bias`, (deg/s)² (+∞ before the first commit).
-    pub variance: f64,
-    /// Kalman: sample index of the last committed sample.
-    pub last_commit: u64,
-    /// Kalman temperature term, once a temperature was committed: coefficient c (deg/s/°C),
-    /// Cov(b, c), Var(c) and T₀ (°C).
-    pub temperature: Option<[f64; 4]>,
-    /// Kalman: the last finite temperature seen (°C), which stands in for a sample without one.
-    pub last_temp_c: Option<f64>,
-    /// The axis' self-calibration (online Allan variance, running σ).
-    pub noise: NoiseCalibration,
-    /// Drift subtracted from the last accepted sample (held during motion).
-    pub drift: f64,
-    /// Last compensated value of an accepted sample (the substitute for a rejected one).
-    pub comp: f64,
-    /// Whether the last accepted sample's drift came from the estimator's model (status bit 0
-    /// of a rejected sample).
-    pub from_model: bool,
-    /// Standard deviation of the last accepted sample's drift, deg/s (+∞ while unknown).
-    pub drift_std: f64,
-}
-
-impl AxisWarm {
-    /// Whether every value is finite.
-    pub fn is_finite(&self) -> bool {
-        // The Kalman variance is +∞ before its first commit; NaN and negative values are not.
-        self.variance >= 0.0
-            && self.drift_std >= 0.0
-            && self.noise.is_valid()
-            && [self.bias, self.drift, self.comp]
-            .iter()
-            .chain(self.temperature.iter().flatten())
-            .chain(self.last_temp_c.iter())
-            .chain(&self.denoiser_window)
-            .chain(&self.history)
-            .all(|v| v.is_finite())
-    }
-}
-
-/// The state the three axes share: what the static detector and the input checks need to go
-/// on deciding exactly as before the restart.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StreamWarm {
-    /// Index of the next sample (samples processed so far): the restored pipeline continues it,
-    /// so the pending samples, the estimators' last commit and the calibration's blocks keep
-    /// their positions.
-    pub index: u64,
-    /// The sample period: configured, measured ("auto") or still being measured.
-    pub period: PeriodEstimate,
-    /// Samples since the last accepted static sample.
-    pub horizon: u64,
-    /// The pending (delayed-commit) queue.
-    pub pending: PendingState,
-    /// The static detector: residual windows, hysteresis, deadlock watch.
-    pub detector: DetectorState,
-    /// The input checks: `seq` and time references, spike estimates, stuck-value runs.
-    pub input: InputState,
-}
-
-impl StreamWarm {
-    /// Whether every stored value is usable (finite; temperatures finite or NaN).
-    pub fn is_valid(&self) -> bool {
-        self.pending.is_valid() && self.detector.is_finite() && self.input.is_finite()
     }
 }
 
@@ -257,45 +177,7 @@ pub enum SnapshotError {
     NotStorable(usize),
 }
 
-fn fnv1a64(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3))
-}
-
-fn codec() -> impl bincode::config::Config {
-    bincode::config::standard().with_limit::<MAX_PAYLOAD>()
-}
-
 impl Snapshot {
-    /// A snapshot of the installed models (an axis may have none) and the warm states; fails
-    /// when an installed model's kind cannot be stored.
-    pub fn capture(
-        compat: Compat,
-        models: [Option<Arc<InstalledModel>>; 3],
-        warm: [AxisWarm; 3],
-        stream: StreamWarm,
-    ) -> Result<Self, SnapshotError> {
-        let mut axes = Vec::with_capacity(3);
-        for (axis, (m, w)) in models.into_iter().zip(warm).enumerate() {
-            let model = match m {
-                None => None,
-                Some(m) => Some(StoredModel {
-                    model: m.model.state().ok_or(SnapshotError::NotStorable(axis))?,
-                    scaler: m.scaler,
-                    version: m.version,
-                }),
-            };
-            axes.push(AxisSnapshot { model, warm: w });
-        }
-        let axes = <[AxisSnapshot; 3]>::try_from(axes).map_err(|_| SnapshotError::NotStorable(3))?;
-        Ok(Self { compat, axes, stream })
-    }
-
-    /// A snapshot of everything `pipeline` holds (see [`Snapshot::capture`]).
-    pub fn of_pipeline(pipeline: &Pipeline) -> Result<Self, SnapshotError> {
-        let models = [0, 1, 2].map(|axis| pipeline.model_slot(axis).and_then(|slot| (*slot.load()).clone()));
-        Self::capture(Compat::of(pipeline.config()), models, pipeline.warm_state(), pipeline.stream_state())
-    }
-
     /// The newest model version among the axes (0: no model).
     pub fn model_version(&self) -> u64 {
         self.axes.iter().filter_map(|a| a.model.as_ref()).map(|m| m.version).max().unwrap_or(0)
@@ -341,100 +223,24 @@ impl Snapshot {
         }
         Ok(())
     }
-
-    /// The bytes of the snapshot: header and payload (see the module documentation).
-    pub fn encode(&self) -> Result<Vec<u8>, SnapshotError> {
-        let payload = bincode::serde::encode_to_vec(self, codec()).map_err(|e| SnapshotError::Decode(e.to_string()))?;
-        let mut out = Vec::with_capacity(HEADER_LEN + payload.len());
-        out.extend_from_slice(&MAGIC);
-        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-        out.extend_from_slice(&fnv1a64(&payload).to_le_bytes());
-        out.extend_from_slice(&payload);
-        Ok(out)
-    }
-
-    /// Decodes and validates bytes made by [`Snapshot::encode`]; every failure is an error.
-    pub fn decode(bytes: &[u8]) -> Result<Self, SnapshotError> {
-        if bytes.len() < HEADER_LEN {
-            if !MAGIC.starts_with(&bytes[..bytes.len().min(MAGIC.len())]) {
-                return Err(SnapshotError::BadMagic);
-            }
-            return Err(SnapshotError::Truncated { have: bytes.len(), need: HEADER_LEN });
-        }
-        let word = |r: std::ops::Range<usize>| {
-            let mut b = [0u8; 8];
-            b[..r.len()].copy_from_slice(&bytes[r]);
-            u64::from_le_bytes(b)
-        };
-        if bytes[..8] != MAGIC {
-            return Err(SnapshotError::BadMagic);
-        }
-        let version = word(8..12) as u32;
-        if version != FORMAT_VERSION {
-            return Err(SnapshotError::Version { found: version });
-        }
-        let len = word(12..20);
-        if len > MAX_PAYLOAD as u64 {
-            return Err(SnapshotError::TooLarge(len));
-        }
-        let need = HEADER_LEN + len as usize;
-        if bytes.len() != need {
-            return Err(SnapshotError::Truncated { have: bytes.len(), need });
-        }
-        let payload = &bytes[HEADER_LEN..];
-        if fnv1a64(payload) != word(20..28) {
-            return Err(SnapshotError::Checksum);
-        }
-        let (snapshot, used): (Self, usize) =
-            bincode::serde::decode_from_slice(payload, codec()).map_err(|e| SnapshotError::Decode(e.to_string()))?;
-        if used != payload.len() {
-            return Err(SnapshotError::Decode(format!("{} trailing bytes", payload.len() - used)));
-        }
-        snapshot.validate()?;
-        Ok(snapshot)
-    }
-
-    /// Installs the models and restores the warm and shared state into `pipeline` (one that
-    /// has processed no sample), after checking the snapshot against the pipeline's
-    /// configuration and trying it on a scratch pipeline of the same configuration; on an
-    /// error the pipeline is unchanged.
-    pub fn restore_into(&self, pipeline: &mut Pipeline) -> Result<(), SnapshotError> {
-        self.compat.check(&Compat::of(pipeline.config()))?;
-        self.validate()?;
-        let mut scratch = Pipeline::new(pipeline.config().clone()).map_err(|e| SnapshotError::Incompatible(e.to_string()))?;
-        self.apply(&mut scratch)?;
-        self.apply(pipeline)
-    }
-
-    fn apply(&self, pipeline: &mut Pipeline) -> Result<(), SnapshotError> {
-        let warm = self.axes.each_ref().map(|a| a.warm.clone());
-        pipeline.restore_state(&warm, &self.stream).map_err(|e| SnapshotError::Incompatible(e.to_string()))?;
-        for (axis, a) in self.axes.iter().enumerate() {
-            let Some(m) = &a.model else { continue };
-            let model: Arc<dyn Predict + Send + Sync> = Arc::new(m.model.clone());
-            pipeline
-                .install_model(axis, model, m.scaler, m.version)
-                .map_err(|e| SnapshotError::Incompatible(format!("axis {axis}: {e}")))?;
-        }
-        Ok(())
-    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::format::fnv1a64;
     use super::*;
     use crate::config::Config;
     use crate::model::cpso::CpsoConfig;
     use crate::model::lssvm::CpsoLssvm;
+    use crate::stream::pipeline::Pipeline;
     use crate::stream::retrain::fit_axis;
     use crate::stream::{InputSample, OutputSample, STATUS_NO_MODEL};
 
     fn config() -> Config {
         let mut c = Config::paper();
         c.denoise.window = 64;
-        c.retrain.window = 300;
-        c.retrain.min_samples = 100;
+        c.retrain.schedule.window = 300;
+        c.retrain.schedule.min_samples = 100;
         c
     }
 
@@ -662,8 +468,8 @@ mod tests {
         let snapshot = capture(&p);
         // Other windows: the stored residual windows do not fit.
         let mut other = c.clone();
-        other.motion.windows_s = vec![0.5, 2.0, 10.0];
-        other.motion.relearn_s = 600.0;
+        other.motion.statistical.windows_s = vec![0.5, 2.0, 10.0];
+        other.motion.statistical.relearn_s = 600.0;
         let mut q = Pipeline::new(other.pipeline().unwrap()).unwrap();
         let err = snapshot.restore_into(&mut q).unwrap_err();
         assert!(err.to_string().contains("motion windows"), "{err}");
