@@ -10,7 +10,7 @@ velocity in rad/s. Every row becomes one Imu message on every `--topic` (default
 log time 1 µs after its stamp (so a reader that took the log time for the stamp is caught).
 `--string-topic` adds a `std_msgs/msg/String` channel with one message, a topic that is not an
 IMU. Without `--topic` and with `--string-topic`, the bag has no Imu topic at all.
-`--cut-message N` writes the payload of the N-th message (1-based) cut to 40 bytes, through the
+`--cut-message N` (N ≥ 2) writes the payload of the N-th message (1-based) cut to 40 bytes, through the
 plain MCAP writer: a well-formed bag holding one message that cannot be decoded.
 """
 
