@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::CliError;
 use super::input::load_series;
+use crate::io::detect_format;
 use crate::diag::allan::{AllanDeviation, Taus, oadev_with_max_m};
 use crate::diag::kalibr::KalibrGyro;
 use crate::diag::noise_fit::{NoiseFit, Weighting, fit_allan};
@@ -50,7 +51,8 @@ pub enum AllanFormat {
 /// Arguments of `gyrocomp allan`.
 #[derive(Debug, clap::Args)]
 pub struct AllanArgs {
-    /// Input CSV file (header line, time column `t_s`, `t` or `time` in seconds, rates in deg/s).
+    /// Input recording: CSV (header line, time column `t_s`, `t` or `time` in seconds, rates in
+    /// deg/s or with --units rads; or EuRoC), or an MCAP bag (sensor_msgs/msg/Imu).
     pub input: PathBuf,
     /// Rate column to analyse, deg/s.
     #[arg(long, default_value = "gx_dps")]
@@ -77,9 +79,10 @@ pub struct AllanArgs {
     /// per axis and keep the largest).
     #[arg(long, value_enum)]
     pub format: Option<AllanFormat>,
-    /// With `--format kalibr`: the `rostopic` key to write.
-    #[arg(long)]
-    pub topic: Option<String>,
+    /// Input format options. `--topic` chooses the topic of an MCAP bag and is the `rostopic`
+    /// key of `--format kalibr` (for a bag, the topic read by default; for CSV, only the key).
+    #[command(flatten)]
+    pub input_opts: super::input::InputArgs,
 }
 
 impl AllanArgs {
@@ -95,7 +98,11 @@ impl AllanArgs {
 
 /// Runs `gyrocomp allan`.
 pub fn run(args: &AllanArgs) -> Result<(), CliError> {
-    let series = load_series(&args.input, &args.column, args.rate)?;
+    let mut input = args.input_opts.options();
+    if detect_format(&args.input)?.name() != "mcap" {
+        input.topic = None; // for CSV, --topic is only Kalibr's `rostopic` key
+    }
+    let series = load_series(&args.input, &args.column, args.rate, &input)?;
     let samples = series.values.len();
     let taus = match args.taus {
         TauGrid::Octave => Taus::Octave,
@@ -133,7 +140,8 @@ pub fn run(args: &AllanArgs) -> Result<(), CliError> {
                 format!("{}: column `{}`: no noise-term fit, so no Kalibr parameters", args.input.display(), args.column)
             })?;
             let source = format!("{} column {}", args.input.display(), args.column);
-            out.write_all(KalibrGyro::from_fit(&fit.model, &allan).to_yaml(&source, args.topic.as_deref()).as_bytes())?;
+            let topic = args.input_opts.topic.as_deref().or(series.topic.as_deref());
+            out.write_all(KalibrGyro::from_fit(&fit.model, &allan).to_yaml(&source, topic).as_bytes())?;
         }
     }
     out.flush()?;

@@ -14,8 +14,11 @@ use crate::wavelet::{DenoiseConfig, denoise_batch};
 /// Arguments of `gyrocomp cc`.
 #[derive(Debug, clap::Args)]
 pub struct CcArgs {
-    /// Input CSV file.
+    /// Input recording: CSV (gyrocomp or EuRoC) or an MCAP bag (sensor_msgs/msg/Imu).
     pub input: std::path::PathBuf,
+    /// Input format options (MCAP topic, CSV units).
+    #[command(flatten)]
+    pub input_opts: super::input::InputArgs,
     /// Rate column to analyse.
     #[arg(long, default_value = "gx_dps")]
     pub column: String,
@@ -54,7 +57,7 @@ struct CcJson<'a> {
 
 /// Runs `gyrocomp cc`.
 pub fn run(args: &CcArgs) -> Result<(), CliError> {
-    let series = load_series(&args.input, &args.column, None)?;
+    let series = load_series(&args.input, &args.column, None, &args.input_opts.options())?;
     let started = Instant::now();
     let mut x = if args.no_denoise { series.values } else { denoise_batch(&series.values, &DenoiseConfig::paper()).0 };
     if args.max_points > 0 {

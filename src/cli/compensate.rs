@@ -21,8 +21,12 @@ use crate::stream::{STATUS_MOVING, STATUS_REJECTED};
 /// Arguments of `gyrocomp compensate`.
 #[derive(Debug, clap::Args)]
 pub struct CompensateArgs {
-    /// Input CSV (header line, time column `t_s`).
+    /// Input recording: CSV (header line, time column `t_s`; or EuRoC) or an MCAP bag
+    /// (sensor_msgs/msg/Imu).
     pub input: PathBuf,
+    /// Input format options (MCAP topic, CSV units).
+    #[command(flatten)]
+    pub input_opts: super::input::InputArgs,
     /// Configuration file (default: the built-in defaults of configs/default.toml). Offline runs
     /// always retrain deterministically (`retrain.mode = "deterministic"`).
     #[arg(long)]
@@ -77,7 +81,7 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
     }
     let config = Config::load(args.config.as_deref())?;
     let columns: Vec<&str> = args.columns.iter().map(String::as_str).collect();
-    let rec = Recording::load(&args.input, &columns, args.moving_column.as_deref())?;
+    let rec = Recording::load_with(&args.input, &columns, args.moving_column.as_deref(), &args.input_opts.options())?;
     if let RateSetting::Hz(hz) = config.input.rate_hz {
         warn_on_rate_mismatch(&rec, hz, config.input.check.gap_factor);
     }

@@ -29,8 +29,12 @@ pub enum Mode {
 /// Arguments of `gyrocomp denoise`.
 #[derive(Debug, clap::Args)]
 pub struct DenoiseArgs {
-    /// Input CSV (header line, time column `t_s`).
+    /// Input recording: CSV (header line, time column `t_s`; or EuRoC) or an MCAP bag
+    /// (sensor_msgs/msg/Imu).
     pub input: PathBuf,
+    /// Input format options (MCAP topic, CSV units).
+    #[command(flatten)]
+    pub input_opts: super::input::InputArgs,
     /// Rate column to denoise.
     #[arg(long, default_value = "gx_dps")]
     pub column: String,
@@ -107,7 +111,7 @@ pub fn run(args: &DenoiseArgs) -> Result<(), CliError> {
     section.window = args.window.unwrap_or(section.window);
     section.lag = args.lag.unwrap_or(section.lag);
     let config = settings.denoise()?;
-    let series = load_series(&args.input, &args.column, None)?;
+    let series = load_series(&args.input, &args.column, None, &args.input_opts.options())?;
     let x = &series.values;
     let started = Instant::now();
     let (batch, report) = denoise_batch(x, &config);

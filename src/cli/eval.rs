@@ -41,7 +41,7 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     }
     let kinds = parse_models::<ModelKind>(args.models.as_deref())?.unwrap_or_else(|| ModelKind::ALL.to_vec());
     let settings = Config::load(args.config.as_deref())?;
-    let series = load_series(&args.input, &args.column, None)?;
+    let series = load_series(&args.input, &args.column, None, &args.input_opts.options())?;
     let protocol = PaperProtocol {
         samples: args.samples,
         embedding: settings.embedding(),

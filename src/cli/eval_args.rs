@@ -21,8 +21,12 @@ pub enum Protocol {
 /// Arguments of `gyrocomp eval`.
 #[derive(Debug, clap::Args)]
 pub struct EvalArgs {
-    /// Input CSV (header line, time column `t_s`).
+    /// Input recording: CSV (header line, time column `t_s`; or EuRoC) or an MCAP bag
+    /// (sensor_msgs/msg/Imu).
     pub input: PathBuf,
+    /// Input format options (MCAP topic, CSV units).
+    #[command(flatten)]
+    pub input_opts: super::input::InputArgs,
     /// Rate column, deg/s.
     #[arg(long, default_value = "gx_dps")]
     pub column: String,

@@ -19,7 +19,7 @@ use super::progress::Progress;
 use crate::eval::motion::MotionScores;
 use crate::model::metrics::quantile;
 use crate::eval::{BaselineSettings, MotionModel, MotionRun, run_motion_model};
-use crate::io::{ReadOptions, Recording, read_table};
+use crate::io::{ReadOptions, Recording, read_columns};
 
 /// Column of the injected truth written by `gyrocomp motion`.
 pub const TRUTH_COLUMN: &str = "truth_dps";
@@ -62,8 +62,9 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     let kinds = parse_models::<MotionModel>(args.models.as_deref())?.unwrap_or_else(|| MotionModel::ALL.to_vec());
     let config = Config::load(args.config.as_deref())?;
     // Finite rates and truth, with line-exact errors; the flags checked to be 0/1 the same way.
-    let mut table = read_table(&args.input, &[&args.column, TRUTH_COLUMN], ReadOptions::default())?;
-    let mut rec = Recording::load(&args.input, &[&args.column], Some(MOVING_COLUMN))?;
+    let input = args.input_opts.options();
+    let mut table = read_columns(&args.input, &[&args.column, TRUTH_COLUMN], ReadOptions::default(), &input)?;
+    let mut rec = Recording::load_with(&args.input, &[&args.column], Some(MOVING_COLUMN), &input)?;
     let moving = rec.take_moving().unwrap_or_default();
     let truth = table.columns.pop().unwrap_or_default();
     let raw = table.columns.pop().unwrap_or_default();

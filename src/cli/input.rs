@@ -1,10 +1,31 @@
-//! Loading one rate column of a recording for the offline commands.
+//! Loading a recording for the offline commands: the input options every command that reads a
+//! recording takes (`--topic`, `--units`, docs/inputs.md) and one rate column with its time
+//! stamps.
 
 use std::path::Path;
 
-use crate::io::{ReadOptions, Table, read_table};
+use crate::io::{InputOptions, RateUnit, ReadOptions, Table, read_columns};
 
 use super::CliError;
+
+/// The options of the input file, shared by every command that reads a recording.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct InputArgs {
+    /// MCAP input (ROS 2 bag): the sensor_msgs/msg/Imu topic to read (default: the only one).
+    #[arg(long)]
+    pub topic: Option<String>,
+    /// Unit of the rate columns of a gyrocomp CSV: dps (deg/s, the default) or rads (rad/s,
+    /// converted to deg/s). EuRoC CSV and MCAP bags are rad/s by definition.
+    #[arg(long, value_name = "dps|rads")]
+    pub units: Option<RateUnit>,
+}
+
+impl InputArgs {
+    /// The reader layer's options.
+    pub fn options(&self) -> InputOptions {
+        InputOptions { topic: self.topic.clone(), units: self.units }
+    }
+}
 
 /// One column of a recording with its time stamps.
 #[derive(Debug, Clone)]
@@ -17,12 +38,19 @@ pub struct Series {
     pub rate_hz: f64,
     /// The `temp_c` column when the file has one (NaN where a row leaves it empty).
     pub temp_c: Option<Vec<f64>>,
+    /// The MCAP topic read (`None` for CSV).
+    pub topic: Option<String>,
 }
 
-/// Reads `column` of the CSV at `path`; the sample rate comes from `rate_override` or the time
-/// column, and must be positive and finite.
-pub fn load_series(path: &Path, column: &str, rate_override: Option<f64>) -> Result<Series, CliError> {
-    let Table { t_s, mut columns, temp_c, .. } = read_table(path, &[column], ReadOptions::default())?;
+/// Reads `column` of the recording at `path` (CSV or MCAP, read with `input`); the sample rate
+/// comes from `rate_override` or the time stamps, and must be positive and finite.
+pub fn load_series(
+    path: &Path,
+    column: &str,
+    rate_override: Option<f64>,
+    input: &InputOptions,
+) -> Result<Series, CliError> {
+    let Table { t_s, mut columns, temp_c, topic, .. } = read_columns(path, &[column], ReadOptions::default(), input)?;
     let values = columns.pop().expect("one column was asked for");
     let rate_hz = match rate_override {
         Some(r) => r,
@@ -36,6 +64,5 @@ pub fn load_series(path: &Path, column: &str, rate_override: Option<f64>) -> Res
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(format!("{}: sample rate {rate_hz} Hz is not positive and finite", path.display()).into());
     }
-    Ok(Series { t_s, values, rate_hz, temp_c })
+    Ok(Series { t_s, values, rate_hz, temp_c, topic })
 }
-

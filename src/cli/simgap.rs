@@ -25,8 +25,12 @@ use crate::sim::SimConfig;
 pub struct SimgapArgs {
     /// The real recording: CSV with a header, time column `t_s` (or `t`, `time`), rates in deg/s,
     /// optionally `temp_c` (then `temperature` is a candidate effect).
+    /// An MCAP bag (sensor_msgs/msg/Imu) or a EuRoC CSV is read as well.
     #[arg(long, required_unless_present = "selftest")]
     pub real: Option<PathBuf>,
+    /// Input format options (MCAP topic, CSV units).
+    #[command(flatten)]
+    pub input_opts: super::input::InputArgs,
     /// Rate column to diagnose, deg/s.
     #[arg(long, default_value = "gx_dps")]
     pub column: String,
@@ -100,7 +104,7 @@ pub fn run(args: &SimgapArgs) -> Result<(), CliError> {
         return run_selftest_cli(args);
     }
     let path = args.real.as_ref().ok_or("--real FILE is required (or --selftest)")?;
-    let series = load_series(path, &args.column, args.rate)?;
+    let series = load_series(path, &args.column, args.rate, &args.input_opts.options())?;
     let temp_c = match series.temp_c {
         Some(t) if t.iter().all(|v| v.is_finite()) => Some(t),
         Some(_) => {

@@ -189,6 +189,7 @@ pub struct SampleReader<R: Read> {
     options: ReadOptions,
     /// Line number of the header.
     header_line: u64,
+    dialect: Dialect,
 }
 
 impl SampleReader<File> {
@@ -269,7 +270,25 @@ impl<R: Read> SampleReader<R> {
             rows: 0,
             header_line,
             options,
+            dialect,
         })
+    }
+
+    /// The dialect the header shows.
+    pub fn dialect(&self) -> Dialect {
+        self.dialect
+    }
+
+    /// Line number of the header.
+    pub fn header_line(&self) -> u64 {
+        self.header_line
+    }
+
+    /// Multiplies the values of the `k`-th selected column by `factor` as they are read (a unit
+    /// conversion, e.g. rad/s → deg/s for `--units rads`). Panics when `k` is not a selected
+    /// column.
+    pub fn scale_column(&mut self, k: usize, factor: f64) {
+        self.value_scale[k] *= factor;
     }
 
     /// Names of all columns in the header.
@@ -449,9 +468,33 @@ pub struct Table {
     pub columns: Vec<Vec<f64>>,
     /// Temperature per row (NaN where absent) when the file has a `temp_c` column.
     pub temp_c: Option<Vec<f64>>,
+    /// The MCAP topic the rows come from (`None` for CSV).
+    pub topic: Option<String>,
 }
 
 impl Table {
+    /// An empty table of the value `columns`, with a temperature column when `temperature`.
+    pub fn with_columns(columns: &[&str], temperature: bool) -> Self {
+        Self {
+            names: columns.iter().map(|&c| c.to_owned()).collect(),
+            columns: vec![Vec::new(); columns.len()],
+            temp_c: temperature.then(Vec::new),
+            ..Self::default()
+        }
+    }
+
+    /// Appends one row: its time, its values (one per column) and its temperature (NaN in the
+    /// temperature column when `None`; ignored without one).
+    pub fn push(&mut self, t_s: f64, values: &[f64], temp_c: Option<f64>) {
+        self.t_s.push(t_s);
+        for (column, &v) in self.columns.iter_mut().zip(values) {
+            column.push(v);
+        }
+        if let Some(temp) = self.temp_c.as_mut() {
+            temp.push(temp_c.unwrap_or(f64::NAN));
+        }
+    }
+
     /// Number of rows.
     pub fn len(&self) -> usize {
         self.t_s.len()
@@ -493,20 +536,9 @@ pub fn read_table_from<R: Read>(
 }
 
 fn collect_table<R: Read>(mut reader: SampleReader<R>, columns: &[&str]) -> Result<Table, CsvError> {
-    let mut table = Table {
-        names: columns.iter().map(|&c| c.to_owned()).collect(),
-        columns: vec![Vec::new(); columns.len()],
-        temp_c: reader.has_temperature().then(Vec::new),
-        ..Table::default()
-    };
+    let mut table = Table::with_columns(columns, reader.has_temperature());
     while let Some(row) = reader.next_row()? {
-        table.t_s.push(row.t_s);
-        for (column, &v) in table.columns.iter_mut().zip(row.values) {
-            column.push(v);
-        }
-        if let Some(temp) = table.temp_c.as_mut() {
-            temp.push(row.temp_c.unwrap_or(f64::NAN));
-        }
+        table.push(row.t_s, row.values, row.temp_c);
     }
     if table.is_empty() {
         let (path, line) = (reader.path.clone(), reader.header_line);

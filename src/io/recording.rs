@@ -1,6 +1,7 @@
-//! A recording as the offline drivers see it (docs/design.md "One pipeline, three drivers"): the CSV
-//! of `gyrocomp compensate`, of `replay` and of the motion-injected evaluation, loaded once with
-//! the streaming reader ([`SampleReader`], line-exact errors) and handed to the pipeline sample by
+//! A recording as the offline drivers see it (docs/design.md "One pipeline, three drivers"): the
+//! file of `gyrocomp compensate`, of `replay` and of the motion-injected evaluation (any format of
+//! the reader layer, [`super::source`]: CSV or a ROS 2 bag), loaded once with its streaming
+//! reader (errors name the line or message and the field) and handed to the pipeline sample by
 //! sample as [`InputSample`]s.
 //!
 //! - 1 to 3 chosen rate columns (deg/s) become the axes x, y, z in the order given; axes the
@@ -10,11 +11,13 @@
 //!   platform is moving".
 //! - Rates may be NaN or infinite (the pipeline rejects such samples itself, status bit 2); time
 //!   must be finite, non-negative and strictly increasing.
-//! - Time becomes the pipeline's `t_ns` by [`t_ns_from_s`], the one conversion every driver uses.
+//! - Time becomes the pipeline's `t_ns` by [`t_ns_from_s`], the one conversion every driver uses,
+//!   unless the format has exact ns stamps (MCAP header stamps), which are taken as they are.
 
 use std::path::{Path, PathBuf};
 
-use super::csv_read::{CsvError, CsvErrorKind, ReadOptions, SampleReader};
+use super::csv_read::{CsvError, ReadOptions};
+use super::source::{InputError, InputOptions, Request, open_samples};
 use crate::stream::{FLAG_MOVING, InputSample};
 
 /// Most rate columns a recording maps to axes (x, y, z).
@@ -38,12 +41,25 @@ pub fn t_ns_from_s(t_s: f64) -> Option<u64> {
 /// Why a recording could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum RecordingError {
-    /// A problem in the file, located by file, line and field.
+    /// A problem in a CSV file, located by file, line and field.
     #[error(transparent)]
     Csv(#[from] CsvError),
+    /// A problem in another input (an MCAP bag: file, topic, message and field) or an option
+    /// that does not fit the file.
+    #[error(transparent)]
+    Input(InputError),
     /// The columns asked for cannot make a recording (none, more than three, repeated).
     #[error("{0}")]
     Columns(String),
+}
+
+impl From<InputError> for RecordingError {
+    fn from(e: InputError) -> Self {
+        match e {
+            InputError::Csv(e) => Self::Csv(e),
+            other => Self::Input(other),
+        }
+    }
 }
 
 /// A gyro recording in memory: time, 1–3 rate columns, temperature and moving flags per row.
@@ -61,9 +77,22 @@ pub struct Recording {
 
 impl Recording {
     /// Loads `columns` (1–3 rate columns, axes x, y, z in that order) of the CSV at `path`, and
-    /// the 0/1 flags of `moving_column` when given. Every problem in the file is a [`CsvError`]
-    /// naming the file, the line and the field.
+    /// the 0/1 flags of `moving_column` when given: [`Recording::load_with`] with the default
+    /// [`InputOptions`].
     pub fn load(path: &Path, columns: &[&str], moving_column: Option<&str>) -> Result<Self, RecordingError> {
+        Self::load_with(path, columns, moving_column, &InputOptions::default())
+    }
+
+    /// Loads `columns` (1–3 rate columns, axes x, y, z in that order) of the recording at `path`
+    /// (any format of [`super::source`], read with `input`), and the 0/1 flags of
+    /// `moving_column` when given. Every problem in the file is an error naming the file, the
+    /// line or message and the field.
+    pub fn load_with(
+        path: &Path,
+        columns: &[&str],
+        moving_column: Option<&str>,
+        input: &InputOptions,
+    ) -> Result<Self, RecordingError> {
         if columns.is_empty() || columns.len() > MAX_AXES {
             return Err(RecordingError::Columns(format!(
                 "{}: give 1 to {MAX_AXES} rate columns, not {}",
@@ -78,9 +107,9 @@ impl Recording {
                 return Err(RecordingError::Columns(format!("{}: column `{name}` is asked for twice", path.display())));
             }
         }
-        let options = ReadOptions { allow_non_finite: true, require_increasing_time: true };
-        let mut reader = SampleReader::open(path, &wanted, options)?;
-        let time_name = reader.time_column().to_owned();
+        let read = ReadOptions { allow_non_finite: true, require_increasing_time: true };
+        let extra: Vec<&str> = moving_column.into_iter().collect();
+        let mut source = open_samples(path, &Request { rates: columns, extra: &extra, read, input })?;
         let mut rec = Self {
             path: path.to_path_buf(),
             columns: columns.iter().map(|&c| c.to_owned()).collect(),
@@ -88,39 +117,37 @@ impl Recording {
             t_s: Vec::new(),
             t_ns: Vec::new(),
             rates: vec![Vec::new(); columns.len()],
-            temp_c: reader.has_temperature().then(Vec::new),
+            temp_c: source.has_temperature().then(Vec::new),
             moving: moving_column.map(|_| Vec::new()),
         };
-        let invalid = |line, field: &str, msg: String| CsvError {
-            path: path.to_path_buf(),
-            line: Some(line),
-            field: Some(field.to_owned()),
-            kind: CsvErrorKind::Invalid(msg),
-        };
-        while let Some(row) = reader.next_row()? {
-            let t_ns = t_ns_from_s(row.t_s).ok_or_else(|| {
-                invalid(row.line, &time_name, format!("time {} s has no ns timestamp: it must be ≥ 0", row.t_s))
+        loop {
+            let (record, t_s, t_ns, temp_c, flag) = match source.next_sample()? {
+                None => break,
+                Some(s) => {
+                    for (column, &v) in rec.rates.iter_mut().zip(s.values) {
+                        column.push(v);
+                    }
+                    (s.record, s.t_s, s.t_ns, s.temp_c, s.values.get(columns.len()).copied())
+                }
+            };
+            let t_ns = t_ns.or_else(|| t_ns_from_s(t_s)).ok_or_else(|| {
+                let field = source.time_field().to_owned();
+                source.invalid(record, &field, format!("time {t_s} s has no ns timestamp: it must be ≥ 0"))
             })?;
-            rec.t_s.push(row.t_s);
+            rec.t_s.push(t_s);
             rec.t_ns.push(t_ns);
-            for (column, &v) in rec.rates.iter_mut().zip(row.values) {
-                column.push(v);
-            }
             if let Some(temp) = rec.temp_c.as_mut() {
-                temp.push(row.temp_c.unwrap_or(f64::NAN));
+                temp.push(temp_c.unwrap_or(f64::NAN));
             }
-            if let (Some(flags), Some(name)) = (rec.moving.as_mut(), moving_column) {
-                let v = row.values[columns.len()];
+            if let (Some(flags), Some(name), Some(v)) = (rec.moving.as_mut(), moving_column, flag) {
                 if v != 0.0 && v != 1.0 {
-                    return Err(invalid(row.line, name, format!("{v} is not a moving flag: 0 or 1")).into());
+                    return Err(source.invalid(record, name, format!("{v} is not a moving flag: 0 or 1")).into());
                 }
                 flags.push(v == 1.0);
             }
         }
         if rec.t_s.is_empty() {
-            return Err(
-                CsvError { path: path.to_path_buf(), line: None, field: None, kind: CsvErrorKind::NoData }.into()
-            );
+            return Err(source.no_data().into());
         }
         Ok(rec)
     }

@@ -1,6 +1,6 @@
-//! `replay IN [--config C] [--speed X | --max] [-o OUT] [--json]`: publishes a recorded gyro CSV
-//! to `gyrocompd` over iceoryx2, collects one compensated sample per row and writes them with the
-//! columns of `gyrocomp compensate`. With no daemon serving the configured services, one is
+//! `replay IN [--topic T] [--units U] [--config C] [--speed X | --max] [-o OUT] [--json]`:
+//! publishes a recorded gyro CSV or ROS 2 bag (MCAP) to `gyrocompd` over iceoryx2, collects one
+//! compensated sample per row and writes them with the columns of `gyrocomp compensate`. With no daemon serving the configured services, one is
 //! started in-process in a private iceoryx2 domain (see the crate documentation).
 //!
 //! Without IN (the project's main job): simulates an ADIS16405-like recording at the
@@ -15,7 +15,7 @@ use std::time::Duration;
 use clap::{Parser, ValueEnum};
 use gyrocomp::config::{Config, RateSetting};
 use gyrocomp::drive::{compensate_recording, error_chain, offline_config};
-use gyrocomp::io::{CompensatedCsvWriter, Recording, write_sim_csv};
+use gyrocomp::io::{CompensatedCsvWriter, InputOptions, RateUnit, Recording, write_sim_csv};
 use gyrocomp::sim::{Generator, MotionKind, MotionPlan, Preset};
 use replay::{Client, EmbeddedDaemon, Pacing, ReplayOptions, Summary, replay};
 use tracing_subscriber::EnvFilter;
@@ -35,9 +35,16 @@ enum DaemonChoice {
 #[derive(Debug, Parser)]
 #[command(name = "replay", version, about)]
 struct Args {
-    /// Recording (CSV with a time column `t_s`/`t`/`time` and rate columns in deg/s). Without
-    /// it: a simulated recording in `out/replay/` (see the module documentation).
+    /// Recording: CSV with a time column `t_s`/`t`/`time` and rate columns in deg/s (or EuRoC),
+    /// or an MCAP bag (sensor_msgs/msg/Imu). Without it: a simulated recording in `out/replay/`
+    /// (see the module documentation).
     input: Option<PathBuf>,
+    /// MCAP input: the sensor_msgs/msg/Imu topic to read (default: the only one).
+    #[arg(long)]
+    topic: Option<String>,
+    /// Unit of the rate columns of a gyrocomp CSV: dps (default) or rads.
+    #[arg(long, value_name = "dps|rads")]
+    units: Option<RateUnit>,
     /// Configuration (keys as in configs/default.toml): services and domain; for an embedded
     /// daemon also its pipeline. Built-in defaults without it.
     #[arg(long)]
@@ -152,7 +159,8 @@ fn run(args: &Args) -> Result<Summary, BoxError> {
         .output
         .clone()
         .or_else(|| args.input.is_none().then(|| PathBuf::from(DEFAULT_DIR).join("compensated.csv")));
-    let rec = Recording::load(&input, &columns, args.moving_column.as_deref())?;
+    let input_options = InputOptions { topic: args.topic.clone(), units: args.units };
+    let rec = Recording::load_with(&input, &columns, args.moving_column.as_deref(), &input_options)?;
     let timeout = seconds("timeout-s", args.timeout_s)?;
     let options =
         ReplayOptions { pacing: args.speed.map_or(Pacing::Max, Pacing::Speed), timeout, ..ReplayOptions::default() };
@@ -185,7 +193,7 @@ fn run(args: &Args) -> Result<Summary, BoxError> {
     let mut summary = Summary::new(&rec, &result, mode);
     let truth_column = args.truth_column.clone().or_else(|| args.input.is_none().then(|| "gx_drift_dps".to_owned()));
     if let Some(column) = &truth_column {
-        let truth = Recording::load(&input, &[column.as_str()], None)?;
+        let truth = Recording::load_with(&input, &[column.as_str()], None, &input_options)?;
         let first_motion = injected.as_ref().and_then(|(_, moving)| moving.iter().position(|&m| m));
         summary = summary.with_truth(&rec, &result, truth.rate(0).unwrap_or(&[]), first_motion);
     }
