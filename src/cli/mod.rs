@@ -14,8 +14,11 @@ pub mod motion;
 pub mod progress;
 pub mod sim;
 pub mod simgap;
+pub mod simgap_args;
+pub mod simgap_json;
 pub mod simgap_report;
 pub mod simgap_selftest;
+pub mod simgap_text;
 
 use clap::{Parser, Subcommand};
 
@@ -55,7 +58,7 @@ pub enum Command {
     Compensate(compensate::CompensateArgs),
     /// Sim-to-real gap: where a simulation differs from a recording, which unmodelled effect
     /// explains it, how far the gap shrinks on a held-out part.
-    Simgap(simgap::SimgapArgs),
+    Simgap(simgap_args::SimgapArgs),
 }
 
 /// Runs the parsed command line.

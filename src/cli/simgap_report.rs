@@ -7,7 +7,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::CliError;
-use super::simgap::{SimgapArgs, where_entries};
+use super::simgap_args::SimgapArgs;
+use super::simgap_json::where_entries;
 use crate::diag::simgap::Diagnosis;
 use crate::diag::simgap::gap::PartComparison;
 use crate::diag::simgap::stats::{StatInfo, fmt_num};

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::time::Instant;
 
 use super::CliError;
-use super::simgap::SimgapArgs;
+use super::simgap_args::SimgapArgs;
 use crate::diag::simgap::selftest::{
     CONFUSION_COLUMNS, CaseResult, Injected, RATE_HZ, SelftestSettings, confusion, run_selftest,
 };

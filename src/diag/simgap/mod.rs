@@ -15,13 +15,16 @@
 //! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
 //!   [`uncertainty`]: the noise terms' uncertainty carried into it.
 //! - [`greedy`]: acceptance, ranking and the greedy combination of effects.
-//! - [`diagnose`](mod@diagnose): the whole diagnosis of one recording.
+//! - [`diagnose`](mod@diagnose): the whole diagnosis of one recording; [`inputs`] (settings,
+//!   baseline, recording), [`outcome`] (verdict, effect results, diagnosis), [`builder`] (the
+//!   models it simulates).
 //! - [`selftest`]: recordings with a known injected effect, and the confusion table.
 //!
 //! Pure numerics: nothing here reads or writes files.
 
 pub mod band;
 pub mod baseline;
+pub mod builder;
 pub mod diagnose;
 pub mod effects;
 pub mod ensemble;
@@ -30,7 +33,9 @@ pub mod fit_spectral;
 pub mod fit_time;
 pub mod gap;
 pub mod greedy;
+pub mod inputs;
 pub mod model;
+pub mod outcome;
 pub mod refit;
 pub mod robust;
 pub mod robust_allan;
@@ -38,7 +43,9 @@ pub mod selftest;
 pub mod stats;
 pub mod uncertainty;
 
-pub use diagnose::{Baseline, Diagnosis, EffectResult, Recording, Settings, Verdict, diagnose};
+pub use diagnose::diagnose;
+pub use inputs::{Baseline, Recording, Settings};
+pub use outcome::{Diagnosis, EffectResult, Verdict};
 pub use effects::{EffectKind, EffectParams};
 
 use crate::diag::allan::AllanError;
