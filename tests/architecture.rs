@@ -591,8 +591,6 @@ const KNOWN_CIRCLES: &[&[&str]] = &[
     // (and every model file uses `FitError` beside `Predict` in traits.rs): breaking it means a
     // storage trait of its own in `model::snapshot`.
     &["src/model/traits.rs", "src/model/snapshot.rs", "src/model/lssvm/model.rs"],
-    // `simgap`'s arguments live in the file that calls the report and the self-test.
-    &["src/cli/simgap.rs", "src/cli/simgap_report.rs", "src/cli/simgap_selftest.rs"],
     // `EffectParams` lives in effects.rs, which calls the fitters that return it.
     &["src/diag/simgap/effects.rs", "src/diag/simgap/fit_events.rs"],
     &["src/diag/simgap/ensemble.rs", "src/diag/simgap/uncertainty.rs"],
