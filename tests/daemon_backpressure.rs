@@ -106,8 +106,10 @@ fn stalled_client_costs_give_up_per_answer_is_counted_and_cleaned_once_dead() {
     let report = wait_status(&status, Duration::from_secs(10), |s| s.samples_in == sent);
     assert_eq!(report.send_failures, failures, "{report:?}");
     assert_eq!(report.samples_in, report.samples_out + report.send_failures, "{report:?}");
-    // Giving up is what bounded the stall: at least give_up_ms per failure went by.
-    assert!(stall_time >= Duration::from_millis(GIVE_UP_MS * failures), "{stall_time:?}");
+    // Giving up is what bounded the stall: at least give_up_ms per failure went by, but for the
+    // last one — the INS may get its answer before the daemon gives up on the stalled client, so
+    // the last wait can end after the loop does (seen in CI: 2.38 s for 24 failures of 100 ms).
+    assert!(stall_time >= Duration::from_millis(GIVE_UP_MS * failures.saturating_sub(1)), "{stall_time:?}");
 
     // The stalled client dies with a full buffer: its node is dead, its port still there.
     stalled.kill();
