@@ -347,8 +347,7 @@ impl NoiseCalibration {
         let mut j = j_min;
         while j < longest {
             let Some(v) = self.trusted_avar(j + 1) else { break };
-            let relative_error = (2.0 / self.levels[j + 1].count as f64).sqrt();
-            if v > v_min * (1.0 + FLAT_TOLERANCE * relative_error) {
+            if !within_flat_region(v, v_min, self.levels[j + 1].count) {
                 break;
             }
             j += 1;
@@ -380,6 +379,13 @@ impl NoiseCalibration {
         let l = self.levels.get(j)?;
         (l.count > 0).then(|| (l.sum_half_sq / l.count as f64, l.count))
     }
+}
+
+/// Whether a level's Allan variance `v`, estimated from `count` differences, is not
+/// significantly above the minimum `v_min`: within [`FLAT_TOLERANCE`] of its standard errors
+/// (relative √(2/count)).
+fn within_flat_region(v: f64, v_min: f64, count: u64) -> bool {
+    v <= v_min * (1.0 + FLAT_TOLERANCE * (2.0 / count as f64).sqrt())
 }
 
 #[cfg(test)]
@@ -465,7 +471,7 @@ mod tests {
                 .collect();
             let longest = trusted.last().unwrap().0;
             let (j_min, v_min, _) = trusted.iter().copied().min_by(|a, b| a.1.total_cmp(&b.1)).unwrap();
-            let within = |v: f64, k: u64| v <= v_min * (1.0 + FLAT_TOLERANCE * (2.0 / k as f64).sqrt());
+            let within = |v: f64, k: u64| within_flat_region(v, v_min, k);
             let j_star = c.optimal_block().unwrap().log2().round() as usize;
             if j_min == longest || trusted.iter().all(|t| t.0 <= j_min || within(t.1, t.2)) {
                 continue; // flat or falling to the end: τ* is extrapolated (tested elsewhere)
