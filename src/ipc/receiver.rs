@@ -16,6 +16,19 @@ use super::settings::WaitMode;
 /// not-yet-attached one as gone once its buffer is full), so an idle receiver looks this often.
 const ATTACH_POLL: Duration = Duration::from_millis(10);
 
+/// Shortest single sleep on the event service. iceoryx2 0.10 hands the sleep to the kernel as a
+/// `SO_RCVTIMEO` `timeval` truncated to whole microseconds, and a zero `timeval` means *no
+/// timeout*: a remaining wait under 1 µs would block until the next event, for ever on an idle
+/// service (seen: a test's echo thread stuck 15 min in `UnixDatagramReceiver::timed_receive`).
+/// Sleeping at least this long overshoots a deadline by at most 1 ms instead.
+pub(crate) const MIN_NAP: Duration = Duration::from_millis(1);
+
+/// The length of one sleep on the event service when `left` of the caller's timeout remains:
+/// at most [`ATTACH_POLL`], never under [`MIN_NAP`] (see there why).
+pub(crate) fn nap(left: Duration) -> Duration {
+    left.min(ATTACH_POLL).max(MIN_NAP)
+}
+
 /// Receives values of `T` from one service; waits by event or by spinning ([`WaitMode`]).
 pub struct Receiver<T: Debug + ZeroCopySend + Copy + 'static> {
     name: String,
@@ -71,8 +84,8 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Receiver<T> {
 
     /// Waits until a value is waiting or `timeout` passed; returns whether one is waiting.
     /// Event mode sleeps on the event service (spurious or stale wake-ups are absorbed; it looks
-    /// at least every 10 ms; a signal delivered to the process ends the wait early); spin mode
-    /// polls.
+    /// at least every 10 ms and sleeps at least 1 ms, so it may overshoot `timeout` by up to 1 ms;
+    /// a signal delivered to the process ends the wait early); spin mode polls.
     pub fn wait(&self, timeout: Duration) -> IpcResult<bool> {
         let start = Instant::now();
         let mut spins: u32 = 0;
@@ -85,7 +98,7 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Receiver<T> {
                 return Ok(false);
             }
             match &self.listener {
-                Some(listener) => match listener.timed_wait(|_| {}, left.min(ATTACH_POLL)) {
+                Some(listener) => match listener.timed_wait(|_| {}, nap(left)) {
                     Ok(_) => {}
                     // A signal (SIGHUP, SIGTERM, …) cut the sleep short: not an error; return so
                     // that the caller sees it promptly.
@@ -117,5 +130,22 @@ impl<T: Debug + ZeroCopySend + Copy + 'static> Receiver<T> {
     /// The service name.
     pub fn service(&self) -> &str {
         &self.name
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_nap_is_never_shorter_than_a_microsecond_timeval_can_hold() {
+        // A zero SO_RCVTIMEO blocks for ever: every remaining wait, however small, maps to a
+        // sleep of at least 1 ms, and long waits are cut to the attach poll.
+        for left_ns in [1u64, 999, 1_000, 999_999, 1_000_000, 5_000_000, 10_000_000, 3_000_000_000] {
+            let n = nap(Duration::from_nanos(left_ns));
+            assert!(n.as_micros() >= 1_000, "{left_ns} ns -> {n:?}");
+            assert!(n <= ATTACH_POLL, "{left_ns} ns -> {n:?}");
+        }
+        assert_eq!(nap(Duration::from_millis(4)), Duration::from_millis(4));
     }
 }
