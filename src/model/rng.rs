@@ -3,7 +3,7 @@
 //! - [`splitmix64`]: the SplitMix64 output function (Steele, Lea & Flood 2014), used wherever a
 //!   seed or a stream key is mixed: [`Rng::new`], [`SplitMix64`], the simulator's stream keys
 //!   ([`crate::sim::rng::Stream::indexed`]) and the sim-to-real ensemble seeds
-//!   ([`crate::diag::simgap::ensemble::member_seed`]).
+//!   ([`crate::diag::simgap::model::member_seed`]).
 //! - [`SplitMix64`]: the SplitMix64 generator itself, for the BP-ANN's weight initialisation and
 //!   validation split.
 //! - [`Rng`]: xoshiro256** 1.0 (Blackman & Vigna, "Scrambled linear pseudorandom number

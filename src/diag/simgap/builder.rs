@@ -3,9 +3,10 @@
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
-use super::effects::{EffectKind, EffectParams, FittedEffect, TrainingData};
+use super::effects::TrainingData;
 use super::inputs::Baseline;
 use super::model::SimModel;
+use super::params::{EffectKind, EffectParams, FittedEffect};
 use super::refit::refit_noise_terms;
 use crate::sim::AxisConfig;
 

@@ -18,11 +18,12 @@
 
 use super::SimgapError;
 use super::builder::ModelBuilder;
-use super::effects::{EffectKind, Fitted, FittedEffect, TrainingData, fit_effect};
+use super::effects::{TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::detect_grid;
 use super::greedy::{OWN_NULL_LEVEL, combine, judge, removes_most};
 use super::model::SimModel;
+use super::params::{EffectKind, Fitted, FittedEffect};
 use super::stats::StatLayout;
 use super::uncertainty::bootstrap;
 

@@ -4,7 +4,7 @@
 //! Every member simulates the *whole* recording length from t = 0 and is cut where the recording
 //! is cut, so effects that depend on absolute time (warm-up, ramp, temperature, the phase of a
 //! sinusoid) are evaluated at the hold-out part's own time offset. Member j uses the seed
-//! splitmix64(seed ⊕ splitmix64(j + 1)), the same for every model of a diagnosis: models that
+//! splitmix64(seed ⊕ splitmix64(j + 1)) ([`super::model::member_seed`]), the same for every model of a diagnosis: models that
 //! differ by one effect are compared on common random numbers.
 //!
 //! With a fitted baseline each member also carries its own noise terms, the fitted ones changed by
@@ -17,10 +17,9 @@ use serde::Serialize;
 
 use super::SimgapError;
 use super::gap::PartComparison;
-use super::model::{SimModel, simulate};
+use super::model::{SimModel, member_seed, simulate};
 use super::stats::StatLayout;
 use super::uncertainty::{Perturbation, perturbed};
-use crate::model::rng::splitmix64;
 
 /// The recording's side of a diagnosis: layouts and real statistics of both parts, and how to
 /// build the ensemble.
@@ -76,11 +75,6 @@ impl Evaluation {
     pub fn mean_gap(&self) -> f64 {
         0.5 * (self.train.score.gap + self.hold.score.gap)
     }
-}
-
-/// Seed of member `j`.
-pub fn member_seed(seed: u64, j: usize) -> u64 {
-    splitmix64(seed ^ splitmix64(j as u64 + 1))
 }
 
 /// What one ensemble member gives: its statistics on the training part and on the hold-out part.

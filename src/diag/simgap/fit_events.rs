@@ -11,7 +11,7 @@
 //!   quarter of the samples) and at least 99.9 % of them are whole multiples of the smallest gap
 //!   between distinct values (relative to the smallest value).
 
-use super::effects::{EffectParams, Fitted, FittedEffect};
+use super::params::{EffectParams, Fitted, FittedEffect};
 use super::robust::{block_means, mad_sigma};
 
 /// Threshold of a jump, robust σ of the window difference.

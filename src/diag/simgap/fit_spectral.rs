@@ -10,7 +10,7 @@
 
 use std::f64::consts::TAU;
 
-use super::effects::{EffectParams, Fitted, FittedEffect};
+use super::params::{EffectParams, Fitted, FittedEffect};
 use super::robust::{linear_fit, median};
 use crate::diag::fft::Fft;
 

@@ -1,7 +1,7 @@
 //! Fits of the effects that are functions of time or temperature: warm-up, ramp, temperature.
 //! All work on the training part with t = k/f_s from its first sample.
 
-use super::effects::{EffectParams, Fitted, FittedEffect};
+use super::params::{EffectParams, Fitted, FittedEffect};
 use super::robust::{block_means, linear_fit};
 
 /// Time constants tried for the warm-up.

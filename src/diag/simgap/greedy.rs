@@ -29,9 +29,9 @@
 //! part ([`removes_most`]), so a dominant cause is named with its residual reported as such.
 
 use super::SimgapError;
-use super::effects::EffectKind;
 use super::ensemble::Evaluation;
 use super::gap::PartComparison;
+use super::params::EffectKind;
 
 /// Level of the test against an effect's own null: 1 − 0.01/8, Bonferroni over the eight effects.
 pub const OWN_NULL_LEVEL: f64 = 1.0 - 0.01 / 8.0;

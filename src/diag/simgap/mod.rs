@@ -11,7 +11,8 @@
 //! - [`gap`]: the scalar gap, its null distribution from the ensemble, significance.
 //! - [`model`], [`baseline`], [`refit`]: the simulated model, the IEEE Std 952 baseline fit and
 //!   its refit once fitted effects are removed.
-//! - [`effects`] (catalogue) with [`fit_time`], [`fit_spectral`], [`fit_events`] (the fits).
+//! - [`effects`] (catalogue) with [`params`] (the effects and their fitted parameters) and
+//!   [`fit_time`], [`fit_spectral`], [`fit_events`] (the fits).
 //! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
 //!   [`uncertainty`]: the noise terms' uncertainty carried into it.
 //! - [`greedy`]: acceptance, ranking and the greedy combination of effects.
@@ -36,6 +37,7 @@ pub mod greedy;
 pub mod inputs;
 pub mod model;
 pub mod outcome;
+pub mod params;
 pub mod refit;
 pub mod robust;
 pub mod robust_allan;
@@ -46,7 +48,7 @@ pub mod uncertainty;
 pub use diagnose::diagnose;
 pub use inputs::{Baseline, Recording, Settings};
 pub use outcome::{Diagnosis, EffectResult, Verdict};
-pub use effects::{EffectKind, EffectParams};
+pub use params::{EffectKind, EffectParams};
 
 use crate::diag::allan::AllanError;
 use crate::diag::noise_fit::NoiseFitError;

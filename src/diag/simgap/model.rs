@@ -18,6 +18,7 @@
 use serde::Serialize;
 
 use super::SimgapError;
+use crate::model::rng::splitmix64;
 use crate::sim::rng::{Stream, StreamId};
 use crate::sim::terms::{GaussMarkov, Quantiser, TemperatureBias};
 use crate::sim::{AxisConfig, Generator, Quantization, QuantizationMode, SimConfig};
@@ -50,6 +51,11 @@ impl SimModel {
         let quantization = axis.quantization.take();
         Self { axis, quantization, ..Self::default() }
     }
+}
+
+/// Seed of member `j` of an ensemble seeded with `seed` (what [`simulate`] is given).
+pub fn member_seed(seed: u64, j: usize) -> u64 {
+    splitmix64(seed ^ splitmix64(j as u64 + 1))
 }
 
 /// One seeded member: `len` samples at `rate_hz` from t = 0; `temp_c` (when the model has a

@@ -3,10 +3,10 @@
 use serde::Serialize;
 
 use super::baseline::NoiseTerms;
-use super::effects::{EffectKind, EffectParams};
 use super::ensemble::Evaluation;
 use super::greedy::Judgement;
 use super::model::SimModel;
+use super::params::{EffectKind, EffectParams};
 use super::stats::StatLayout;
 
 /// The verdict of a diagnosis.

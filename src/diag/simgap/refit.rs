@@ -16,9 +16,9 @@
 
 use super::SimgapError;
 use super::baseline::{MIN_INDEPENDENT_AVERAGES, NoiseTerms, fit_noise_terms_to};
-use super::effects::{Fitted, FittedEffect, TrainingData, fit_effect};
-use super::ensemble::member_seed;
-use super::model::simulate;
+use super::effects::{TrainingData, fit_effect};
+use super::model::{member_seed, simulate};
+use super::params::{Fitted, FittedEffect};
 use super::robust_allan::robust_oadev;
 use crate::diag::allan::AllanDeviation;
 use crate::model::rng::splitmix64;

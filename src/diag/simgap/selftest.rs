@@ -34,7 +34,7 @@ use serde::Serialize;
 
 use super::SimgapError;
 use super::diagnose::{Baseline, Recording, Settings, Verdict, diagnose};
-use super::effects::{EffectKind, EffectParams};
+use super::params::{EffectKind, EffectParams};
 use crate::model::rng::Rng;
 use crate::model::rng::splitmix64;
 use crate::sim::{

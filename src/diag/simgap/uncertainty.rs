@@ -17,8 +17,7 @@
 
 use super::SimgapError;
 use super::baseline::{NoiseTerms, fit_noise_terms};
-use super::ensemble::member_seed;
-use super::model::{SimModel, simulate};
+use super::model::{SimModel, member_seed, simulate};
 use crate::model::rng::splitmix64;
 
 /// Mixed into the seed so the bootstrap's series differ from the ensemble's.

@@ -5,7 +5,9 @@
 //! - [`dense`]: blocked Cholesky, triangular solves, diag(H⁻¹);
 //! - [`exact`]: the bordered dual system (Eq. 7) via Cholesky of `Ω + I/γ`, closed-form LOO
 //!   residuals (Cawley & Talbot 2004);
-//! - [`model`]: the fitted [`LssvmModel`] (a [`KernelExpansion`]) and [`LssvmConfig`] (`Fit`);
+//! - [`expansion`]: the fitted [`LssvmModel`] (a [`KernelExpansion`]) and its [`Solver`], as
+//!   plain data (what a model snapshot stores);
+//! - [`model`]: [`LssvmModel`] as a `Predict` and [`LssvmConfig`] (`Fit`);
 //! - [`prototypes`], [`nystrom`]: the large-window fixed-size LS-SVM (Suykens et al. 2002) with
 //!   a Nyström feature map solved in the primal ([`NystromConfig`]);
 //! - [`tune`]: [`CpsoLssvm`], (γ, σ²) tuned by CPSO (paper §2.2, Eq. 9–14) with a choice of
@@ -13,6 +15,7 @@
 
 pub mod dense;
 pub mod exact;
+pub mod expansion;
 pub mod kernel;
 pub mod model;
 pub mod nystrom;
@@ -21,7 +24,8 @@ pub mod tune;
 mod validate;
 
 pub use exact::{ExactSolution, solve_exact};
-pub use model::{KernelExpansion, LssvmConfig, LssvmModel};
+pub use expansion::{KernelExpansion, LssvmModel, Solver};
+pub use model::LssvmConfig;
 pub use nystrom::{NystromConfig, NystromProblem, NystromSolution};
 pub use prototypes::{PrototypeSelection, select_prototypes};
-pub use tune::{CpsoLssvm, CpsoLssvmModel, Fitness, Solver};
+pub use tune::{CpsoLssvm, CpsoLssvmModel, Fitness};

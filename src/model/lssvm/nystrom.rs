@@ -23,8 +23,9 @@
 use nalgebra::{DMatrix, DMatrixView};
 
 use super::dense::{cholesky_in_place, solve_cholesky};
+use super::expansion::{KernelExpansion, LssvmModel};
 use super::kernel::sq_dist_matrix;
-use super::model::{KernelExpansion, LssvmModel, embed_series};
+use super::model::embed_series;
 use super::prototypes::{PrototypeSelection, select_prototypes};
 use super::validate::{check_hyper, check_rows};
 use crate::model::{Fit, FitError};

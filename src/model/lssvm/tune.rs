@@ -12,8 +12,9 @@
 use nalgebra::DMatrix;
 
 use super::exact::solve_with_system;
+use super::expansion::{KernelExpansion, LssvmModel, Solver};
 use super::kernel::{kernel_plus_ridge_from_sq_dist, sq_dist_matrix};
-use super::model::{KernelExpansion, LssvmModel, embed_series};
+use super::model::embed_series;
 use super::nystrom::{DEFAULT_RANK_TOL, NystromProblem};
 use super::prototypes::{PrototypeSelection, select_prototypes};
 use crate::model::cpso::{CpsoConfig, CpsoHistory, minimize};
@@ -36,18 +37,6 @@ pub enum Fitness {
     Holdout {
         /// Share of the training rows held out, in (0, 1).
         fraction: f64,
-    },
-}
-
-/// Which LS-SVM solves the problem.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum Solver {
-    /// Exact dual solve (Eq. 7).
-    Exact,
-    /// Fixed-size LS-SVM with this many retained prototypes (the Nyström rank r).
-    Nystrom {
-        /// Retained prototypes r ≤ m_p.
-        rank: usize,
     },
 }
 
