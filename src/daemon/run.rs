@@ -123,8 +123,11 @@ impl Daemon {
         };
         match reload::apply(pipeline, &self.config, &new) {
             Ok(outcome) => {
-                if !outcome.needs_restart.is_empty() {
-                    tracing::warn!(sections = ?outcome.needs_restart, "SIGHUP: these changes take effect after a restart");
+                for changed in &outcome.needs_restart {
+                    tracing::warn!(
+                        changed,
+                        "SIGHUP: {changed} changed and needs a restart; the running value stays in effect"
+                    );
                 }
                 tracing::info!(
                     motion = ?pipeline.config().motion,
