@@ -49,7 +49,7 @@ impl<'de> Deserialize<'de> for RetrainMode {
 /// `[motion]`: which detector, and the settings of each, as the detectors take them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MotionSection {
-    /// `statistical` or `threshold`.
+    /// `statistical`, `threshold` or `none`.
     pub detector: DetectorKind,
     /// The statistical detector's keys (`false_alarm` … `relearn_s`).
     pub statistical: StatisticalConfig,

@@ -11,8 +11,8 @@
 //! | `gyrocomp-flagged` | the same | the same, plus the file's `moving` column as the publisher's flag (an oracle: it says what the detector has to guess) |
 //! | `cpso-lssvm` | the paper's CPSO-LSSVM forecaster | the configured detector |
 //! | `hybrid` | the Kalman tracker, plus a CPSO-LSSVM forecast of its 10 s block means while moving | the configured detector |
-//! | `persistence` | x̃\[t] = the newest denoised sample | none: it sees the whole stream |
-//! | `ar` | AR(p), order by AIC ≤ 20, refitted on the retrain schedule | none |
+//! | `persistence` | x̃\[t] = the newest denoised sample | none (the `none` detector): it sees the whole stream |
+//! | `ar` | AR(p), order by AIC ≤ 20, refitted on the retrain schedule | none (the `none` detector) |
 //! | `persistence-gated`, `ar-gated` | the same models | the configured detector, as gyrocomp (what the detector alone is worth) |
 //!
 //! `bias-hold`, `last-static` and `highpass` need no pipeline: start-up mean; the mean of the last
@@ -41,7 +41,7 @@ use crate::config::Config;
 use crate::model::baselines::{Ar, PersistenceModel};
 use crate::model::scaler::MinMaxScaler;
 use crate::drive::{BuildError, build_pipeline, offline_config, run_pipeline};
-use crate::stream::{DetectorKind, EstimatorKind, FLAG_MOVING, InputSample, MotionConfig, Pipeline, Trainer};
+use crate::stream::{DetectorKind, EstimatorKind, FLAG_MOVING, InputSample, Pipeline, Trainer};
 
 /// A model of the motion-injected protocol (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -158,19 +158,14 @@ pub enum MotionModelError {
     Motion(#[from] MotionError),
 }
 
-/// A motion gate that never fires (thresholds at +∞): the model sees the whole stream.
-fn no_gate(window: usize) -> MotionConfig {
-    MotionConfig { rate_dps: f64::INFINITY, variance_dps2: f64::INFINITY, window }
-}
-
 /// The pipeline of a pipeline model, from the offline configuration.
 fn pipeline(model: MotionModel, config: &Config) -> Result<Pipeline, BuildError> {
     let mut settings = config.pipeline()?;
     // The baseline predictors forecast the denoised stream: the model forecaster's machinery.
     settings.drift.kind = EstimatorKind::CpsoLssvm;
     if matches!(model, MotionModel::Persistence | MotionModel::Ar) {
-        settings.detector = DetectorKind::Threshold;
-        settings.motion = no_gate(settings.motion.window);
+        // No gate: the model sees the whole stream (no file flags are given to these models).
+        settings.detector = DetectorKind::None;
     }
     let mut p = match model {
         MotionModel::Gyrocomp | MotionModel::GyrocompFlagged => return build_pipeline(config),

@@ -4,7 +4,9 @@
 //! [`MotionDetector`]); a new estimator or detector adds one arm here.
 
 use super::causal_denoise::CausalConfig;
-use super::detector::{DetectorKind, MotionDetector, StatisticalConfig, StatisticalDetector, ThresholdDetector};
+use super::detector::{
+    DetectorKind, MotionDetector, NoDetector, StatisticalConfig, StatisticalDetector, ThresholdDetector,
+};
 use super::drift::{DriftConfig, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold};
 use super::motion_gate::MotionConfig;
 
@@ -32,11 +34,12 @@ impl EstimatorKind {
 
 impl DetectorKind {
     /// The detector of this kind: the statistical one with `statistical`, the threshold gate
-    /// with `threshold`.
+    /// with `threshold`, or none (only the publisher's flag).
     pub fn build(self, statistical: &StatisticalConfig, threshold: MotionConfig) -> Box<dyn MotionDetector> {
         match self {
             Self::Statistical => Box::new(StatisticalDetector::new(statistical.clone())),
             Self::Threshold => Box::new(ThresholdDetector::new(threshold)),
+            Self::None => Box::new(NoDetector::new()),
         }
     }
 }

@@ -7,16 +7,18 @@
 //! Delayed commit: a static sample waits in the pending queue of the
 //! [`Pipeline`](super::Pipeline) for [`MotionDetector::commit_delay`] samples before the
 //! estimator and the training window get it. A detector that can look back (the statistical
-//! one) sets the delay above the longest span it may discard; the threshold gate sets 0 (every
-//! static sample is committed at once, as before).
+//! one) sets the delay above the longest span it may discard; the threshold gate and `none` set 0
+//! (every static sample is committed at once, as before).
 //!
 //! | name | what it is |
 //! |---|---|
 //! | `statistical` | mean-shift tests on r = ω − b̂ over several windows and a variance test, set by one false-alarm probability, with hysteresis and delayed commit ([`StatisticalDetector`]) |
 //! | `threshold` | fixed deg/s thresholds on |ω − b̂| and on a short-window variance ([`ThresholdDetector`]) |
+//! | `none` | never flags motion itself: only the publisher's flag counts ([`NoDetector`]); for models that are to see the whole stream |
 //!
-//! The publisher's moving flag wins over both.
+//! The publisher's moving flag wins over every detector.
 
+mod none;
 mod statistical;
 mod threshold;
 
@@ -24,6 +26,7 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+pub use none::{NoDetector, NoDetectorState};
 pub use statistical::{StatisticalConfig, StatisticalDetector, StatisticalState};
 pub use threshold::{ThresholdDetector, ThresholdState};
 
@@ -117,6 +120,8 @@ pub enum DetectorState {
     Statistical(Box<StatisticalState>),
     /// [`ThresholdDetector`].
     Threshold(ThresholdState),
+    /// [`NoDetector`].
+    None(NoDetectorState),
 }
 
 impl DetectorState {
@@ -125,6 +130,7 @@ impl DetectorState {
         match self {
             Self::Statistical(_) => DetectorKind::Statistical,
             Self::Threshold(_) => DetectorKind::Threshold,
+            Self::None(_) => DetectorKind::None,
         }
     }
 
@@ -133,6 +139,7 @@ impl DetectorState {
         match self {
             Self::Statistical(s) => s.is_finite(),
             Self::Threshold(s) => s.is_finite(),
+            Self::None(_) => true,
         }
     }
 }
@@ -145,6 +152,8 @@ pub enum DetectorKind {
     Statistical,
     /// [`ThresholdDetector`].
     Threshold,
+    /// [`NoDetector`]: only the publisher's flag.
+    None,
 }
 
 impl DetectorKind {
@@ -153,6 +162,7 @@ impl DetectorKind {
         match self {
             Self::Statistical => "statistical",
             Self::Threshold => "threshold",
+            Self::None => "none",
         }
     }
 }
