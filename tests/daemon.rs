@@ -1,7 +1,8 @@
 //! `gyrocompd` end to end: the built binary in a private iceoryx2 domain, fed a simulated stream
 //! through the Rust client ports. One answer per raw sample, same `seq`, in order; deterministic
 //! retraining raises `model_version` exactly where the schedule says; SIGHUP applies new motion
-//! thresholds without losing a sample; SIGTERM ends it with exit code 0 and a final status.
+//! thresholds without losing a sample and reports a detector change as needing a restart (the
+//! running detector stays); SIGTERM ends it with exit code 0 and a final status.
 
 #[path = "common/python.rs"]
 mod python;
@@ -179,10 +180,15 @@ fn daemon_answers_every_sample_retrains_reloads_and_stops_cleanly() {
     }
     assert_eq!(answers.last().unwrap().model_version, 3);
 
-    // SIGHUP with a motion threshold below every rate: the next samples are all moving.
-    write_config(&daemon.config, &config_text(&daemon.domain, 1e-9, "event"));
+    // SIGHUP with a motion threshold below every rate: the next samples are all moving. The
+    // detector also changes, to `none`, which a reload cannot apply: it is reported, and the
+    // threshold gate goes on (with `none` nothing would be moving).
+    let reloaded =
+        config_text(&daemon.domain, 1e-9, "event").replace("detector = \"threshold\"", "detector = \"none\"");
+    write_config(&daemon.config, &reloaded);
     daemon.signal("HUP");
     daemon.wait_log("SIGHUP: configuration reloaded", Duration::from_secs(20));
+    daemon.wait_log("SIGHUP: motion.detector changed and needs a restart", Duration::from_secs(1));
     let moving = exchange(&raw, &comp, &samples[700..900]);
     assert!(moving.iter().all(|a| a.status & STATUS_MOVING != 0));
 
