@@ -47,7 +47,8 @@ impl Figure for AllanFigure<'_> {
         // The y range covers the points and the fit, not the widest bands (ν = 1 at the last τ).
         let fitted = self.fit.map(|f| a.tau_s.iter().map(|&t| f.model.allan_deviation(t)).collect::<Vec<_>>());
         let (y_lo, y_hi) = range(a.adev.iter().chain(fitted.iter().flatten()).copied(), true, 0.15);
-        let (y_lo, y_hi) = (y_lo.min(y_hi / 1e4).max(y_hi / 1e6), y_hi * 2.0);
+        // At least 2.5 decades, so that the term lines show beside the curve; at most 6.
+        let (y_lo, y_hi) = (y_lo.min(y_hi / 316.0).max(y_hi / 1e6), y_hi * 2.0);
         let mut chart = ChartBuilder::on(root)
             .caption(&self.title, font(22.0))
             .margin(14)

@@ -143,6 +143,9 @@ struct Flags {
     min_width: f64,
 }
 
+/// Legend entries of a panel.
+type Entries = Vec<(String, Mark)>;
+
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
 
 impl CompensateFigure<'_> {
@@ -153,7 +156,7 @@ impl CompensateFigure<'_> {
         (y0, y1): (f64, f64),
         y_desc: &str,
         flags: &Flags,
-    ) -> Result<(Chart<'a, DB>, Vec<(String, Mark)>), PlotError> {
+    ) -> Result<(Chart<'a, DB>, Entries), PlotError> {
         let mut chart = ChartBuilder::on(area)
             .margin(8)
             .x_label_area_size(36)

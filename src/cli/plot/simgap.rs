@@ -128,6 +128,9 @@ pub struct RankingRow {
     pub hold: f64,
 }
 
+/// Which gap of a row a bar shows.
+type Pick = fn(&RankingRow) -> f64;
+
 /// Height of the legend strip under the ranking chart, pixels.
 const LEGEND_H: u32 = 96;
 
@@ -180,7 +183,7 @@ impl Figure for RankingFigure<'_> {
             .draw()
             .map_err(draw_err)?;
         let train = RGBColor(0x88, 0x88, 0x88);
-        let bars = |pick: fn(&RankingRow) -> f64, off: (f64, f64)| {
+        let bars = |pick: Pick, off: (f64, f64)| {
             self.rows
                 .iter()
                 .enumerate()
@@ -188,7 +191,7 @@ impl Figure for RankingFigure<'_> {
                 .collect::<Vec<_>>()
         };
         let mut entries = Vec::new();
-        let parts: [(fn(&RankingRow) -> f64, _, _, _); 2] =
+        let parts: [(Pick, (f64, f64), RGBColor, &str); 2] =
             [(|r| r.train, (-0.34, -0.02), train, "training"), (|r| r.hold, (0.02, 0.34), AFTER, "hold-out")];
         for (pick, off, colour, label) in parts {
             let rects = bars(pick, off).into_iter().map(|(a, b, v)| Rectangle::new([(0.0, a), (v, b)], colour.filled()));
