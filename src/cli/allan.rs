@@ -22,6 +22,9 @@ use crate::diag::noise_model::{CustomaryNoise, NoiseModel};
 const CI_LEVEL: f64 = 0.95;
 /// Seed of their bootstrap, fixed so that a file always gives the same intervals.
 const CI_SEED: u64 = 952;
+/// From this many samples on, the intervals' cost (one simulation and Allan deviation of the
+/// input per replicate) is announced on stderr.
+const CI_NOTICE_SAMPLES: usize = 1_000_000;
 
 /// Above this many samples `--taus all` without `--max-m` logs a warning about its O(N²) cost.
 const ALL_TAUS_WARN_SAMPLES: usize = 50_000;
@@ -146,6 +149,12 @@ pub fn run(args: &AllanArgs) -> Result<(), CliError> {
             None
         }
     };
+    if fit.is_some() && args.ci_draws > 0 && samples >= CI_NOTICE_SAMPLES {
+        tracing::info!(
+            "confidence intervals: simulating and fitting {} recordings of {samples} samples, each about the cost of this Allan deviation (--ci-draws 0 skips them)",
+            args.ci_draws
+        );
+    }
     let ci = match (&fit, args.ci_draws) {
         (Some(f), draws) if draws > 0 => match fit_intervals(&octave, weighting, f, CI_LEVEL, draws, CI_SEED) {
             Ok(ci) => Some(ci),
