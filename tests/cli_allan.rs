@@ -201,3 +201,17 @@ fn kalibr_yaml_matches_an_independent_allantools_fit_and_the_true_terms() {
     assert_eq!(json, legacy);
     assert!(!gyrocomp(&["allan", path, "--json", "--format", "text"]).status.success(), "--json conflicts with --format");
 }
+
+#[test]
+fn kalibr_update_rate_of_a_100_hz_file_is_100() {
+    // The rate from the time column, (rows − 1)/(t_last − t_first), is 99.99999999999997 here:
+    // the YAML carries it rounded to 6 significant digits, and the JSON's `kalibr` the same.
+    let csv = write_csv(&series(4000), 100.0);
+    let path = csv.path().to_str().unwrap();
+    let out = gyrocomp(&["allan", path, "--format", "kalibr"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let yaml = String::from_utf8(out.stdout).unwrap();
+    assert!(yaml.contains("\nupdate_rate: 100\n"), "{yaml}");
+    let json: Value = serde_json::from_slice(&gyrocomp(&["allan", path, "--format", "json"]).stdout).unwrap();
+    assert_eq!(json["kalibr"]["update_rate"].as_f64(), Some(100.0));
+}

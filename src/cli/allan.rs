@@ -9,11 +9,22 @@ use serde::Serialize;
 
 use super::CliError;
 use super::input::load_series;
+use super::plot::allan::AllanFigure;
+use super::plot::{file_name, save};
 use crate::io::detect_format;
 use crate::diag::allan::{AllanDeviation, Taus, oadev_with_max_m};
 use crate::diag::kalibr::KalibrGyro;
+use crate::diag::fit_intervals::{DEFAULT_DRAWS, FitIntervals, fit_intervals};
 use crate::diag::noise_fit::{NoiseFit, Weighting, fit_allan};
 use crate::diag::noise_model::{CustomaryNoise, NoiseModel};
+
+/// Confidence level of the fitted terms' intervals (`fit_ci` of the JSON, the text table).
+const CI_LEVEL: f64 = 0.95;
+/// Seed of their bootstrap, fixed so that a file always gives the same intervals.
+const CI_SEED: u64 = 952;
+/// From this many samples on, the intervals' cost (one simulation and Allan deviation of the
+/// input per replicate) is announced on stderr.
+const CI_NOTICE_SAMPLES: usize = 1_000_000;
 
 /// Above this many samples `--taus all` without `--max-m` logs a warning about its O(N²) cost.
 const ALL_TAUS_WARN_SAMPLES: usize = 50_000;
@@ -71,7 +82,7 @@ pub struct AllanArgs {
     #[arg(long, value_enum, default_value_t = FitWeights::Independent)]
     pub fit_weights: FitWeights,
     /// Print JSON: {"tau_s":[…],"adev":[…],"fit":{"q","n","b","k","r"},…} ("fit" is null when
-    /// the Allan deviation is zero everywhere).
+    /// the Allan deviation is zero everywhere); "fit_ci" holds each term's 95 % interval.
     #[arg(long, conflicts_with = "format")]
     pub json: bool,
     /// Output format: text (default), json, or kalibr (the gyroscope keys of a Kalibr imu.yaml,
@@ -79,6 +90,16 @@ pub struct AllanArgs {
     /// per axis and keep the largest).
     #[arg(long, value_enum)]
     pub format: Option<AllanFormat>,
+    /// Bootstrap replicates of the fitted terms' 95 % confidence intervals ("fit_ci" in the
+    /// JSON, brackets in the table): recordings simulated from the fitted model and refitted;
+    /// each costs about one Allan deviation of the input. 0: no intervals.
+    #[arg(long, default_value_t = DEFAULT_DRAWS)]
+    pub ci_draws: usize,
+    /// Also draw the Allan deviation into this file (.svg or .png, by its extension): the
+    /// measured points with their 68 % χ² band, the fitted curve and each fitted term's line
+    /// (slopes −1, −½, 0, +½, +1), log-log.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
     /// Input format options. `--topic` chooses the topic of an MCAP bag and is the `rostopic`
     /// key of `--format kalibr` (for a bag, the topic read by default; for CSV, only the key).
     #[command(flatten)]
@@ -120,21 +141,46 @@ pub fn run(args: &AllanArgs) -> Result<(), CliError> {
         FitWeights::Independent => Weighting::IndependentTerms,
         FitWeights::Terms => Weighting::Terms,
     };
-    let fit = match fit_allan(&allan.octave_points(), weighting) {
+    let octave = allan.octave_points();
+    let fit = match fit_allan(&octave, weighting) {
         Ok(fit) => Some(fit),
         Err(e) => {
             tracing::warn!("{}: column `{}`: no noise-term fit: {e}", args.input.display(), args.column);
             None
         }
     };
+    if fit.is_some() && args.ci_draws > 0 && samples >= CI_NOTICE_SAMPLES {
+        tracing::info!(
+            "confidence intervals: simulating and fitting {} recordings of {samples} samples, each about the cost of this Allan deviation (--ci-draws 0 skips them)",
+            args.ci_draws
+        );
+    }
+    let ci = match (&fit, args.ci_draws) {
+        (Some(f), draws) if draws > 0 => match fit_intervals(&octave, weighting, f, CI_LEVEL, draws, CI_SEED) {
+            Ok(ci) => Some(ci),
+            Err(e) => {
+                tracing::warn!("{}: column `{}`: no confidence intervals: {e}", args.input.display(), args.column);
+                None
+            }
+        },
+        _ => None,
+    };
+    if let Some(path) = &args.plot {
+        let figure = AllanFigure {
+            title: format!("Allan deviation of {} in {}", args.column, file_name(&args.input)),
+            allan: &allan,
+            fit: fit.as_ref(),
+        };
+        save(&figure, path)?;
+    }
     let mut out = std::io::stdout().lock();
     match args.output_format() {
         AllanFormat::Json => {
-            let report = JsonReport::new(args, &allan, fit.as_ref());
+            let report = JsonReport::new(args, &allan, fit.as_ref(), ci);
             serde_json::to_writer(&mut out, &report)?;
             writeln!(out)?;
         }
-        AllanFormat::Text => write_table(&mut out, args, &allan, fit.as_ref())?,
+        AllanFormat::Text => write_table(&mut out, args, &allan, fit.as_ref(), ci.as_ref())?,
         AllanFormat::Kalibr => {
             let fit = fit.ok_or_else(|| {
                 format!("{}: column `{}`: no noise-term fit, so no Kalibr parameters", args.input.display(), args.column)
@@ -159,6 +205,7 @@ struct JsonReport<'a> {
     adev_err: &'a [f64],
     fit_customary: Option<CustomaryNoise>,
     fit_info: Option<FitInfo>,
+    fit_ci: Option<FitIntervals>,
     kalibr: Option<KalibrGyro>,
     column: &'a str,
     rate_hz: f64,
@@ -184,7 +231,7 @@ struct Units {
 }
 
 impl<'a> JsonReport<'a> {
-    fn new(args: &'a AllanArgs, allan: &'a AllanDeviation, fit: Option<&NoiseFit>) -> Self {
+    fn new(args: &'a AllanArgs, allan: &'a AllanDeviation, fit: Option<&NoiseFit>, ci: Option<FitIntervals>) -> Self {
         Self {
             tau_s: &allan.tau_s,
             adev: &allan.adev,
@@ -200,6 +247,7 @@ impl<'a> JsonReport<'a> {
                 points: f.points,
                 rms_relative_residual: f.rms_relative_residual,
             }),
+            fit_ci: ci,
             kalibr: fit.map(|f| KalibrGyro::from_fit(&f.model, allan)),
             column: &args.column,
             rate_hz: allan.rate_hz,
@@ -226,6 +274,7 @@ fn write_table(
     args: &AllanArgs,
     allan: &AllanDeviation,
     fit: Option<&NoiseFit>,
+    ci: Option<&FitIntervals>,
 ) -> std::io::Result<()> {
     writeln!(
         out,
@@ -263,10 +312,25 @@ fn write_table(
         weights_label(args.fit_weights),
         fit.rms_relative_residual
     )?;
-    writeln!(out, "  Q  quantisation      {:>12.4e} deg", m.q)?;
-    writeln!(out, "  N  angle random walk {:>12.4e} deg/√s      = {:>12.4e} deg/√h", m.n, c.n_deg_per_sqrt_h)?;
-    writeln!(out, "  B  bias instability  {:>12.4e} deg/s       = {:>12.4e} deg/h", m.b, c.b_deg_per_h)?;
-    writeln!(out, "  K  rate random walk  {:>12.4e} deg/s/√s    = {:>12.4e} deg/h/√h", m.k, c.k_deg_per_h_sqrt_h)?;
-    writeln!(out, "  R  rate ramp         {:>12.4e} deg/s²      = {:>12.4e} deg/h²", m.r, c.r_deg_per_h2)?;
+    let range = |pick: fn(&FitIntervals) -> [f64; 2]| {
+        ci.map_or_else(String::new, |ci| {
+            let [lo, hi] = pick(ci);
+            format!("   [{lo:.3e}, {hi:.3e}]")
+        })
+    };
+    writeln!(out, "  Q  quantisation      {:>12.4e} deg{}", m.q, range(|c| c.q))?;
+    writeln!(out, "  N  angle random walk {:>12.4e} deg/√s      = {:>12.4e} deg/√h{}", m.n, c.n_deg_per_sqrt_h, range(|c| c.n))?;
+    writeln!(out, "  B  bias instability  {:>12.4e} deg/s       = {:>12.4e} deg/h{}", m.b, c.b_deg_per_h, range(|c| c.b))?;
+    writeln!(out, "  K  rate random walk  {:>12.4e} deg/s/√s    = {:>12.4e} deg/h/√h{}", m.k, c.k_deg_per_h_sqrt_h, range(|c| c.k))?;
+    writeln!(out, "  R  rate ramp         {:>12.4e} deg/s²      = {:>12.4e} deg/h²{}", m.r, c.r_deg_per_h2, range(|c| c.r))?;
+    if let Some(ci) = ci {
+        writeln!(
+            out,
+            "  [..]: {:.0} % intervals in the first unit; parametric bootstrap, {} recordings simulated from the fit (seed {})",
+            100.0 * ci.level,
+            ci.fits,
+            ci.seed
+        )?;
+    }
     Ok(())
 }

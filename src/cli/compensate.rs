@@ -11,6 +11,8 @@ use serde::Serialize;
 
 use super::CliError;
 use crate::config::Config;
+use super::plot::compensate::{AxisTrace, CompensateFigure};
+use super::plot::{PlotFormat, file_name, save};
 use super::progress::Progress;
 use crate::io::{CompensatedCsvWriter, Recording};
 use crate::config::RateSetting;
@@ -43,6 +45,11 @@ pub struct CompensateArgs {
     /// Print the summary as JSON on standard output instead of a line on stderr.
     #[arg(long)]
     pub json: bool,
+    /// Also draw the run into this file (.svg or .png, by its extension): per axis over time,
+    /// the raw rate, the drift estimate with its ±1σ band, the compensated rate, and the
+    /// samples flagged moving or rejected shaded (long runs drawn as min/max per pixel column).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 }
 
 /// Static-sample figures of one axis.
@@ -79,6 +86,9 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
     if args.json && args.output.as_os_str() == "-" {
         return Err("--json prints the summary on standard output, where `-o -` writes the CSV: choose one".into());
     }
+    if let Some(path) = &args.plot {
+        PlotFormat::of(path)?; // before the run, not after it
+    }
     let config = Config::load(args.config.as_deref())?;
     let columns: Vec<&str> = args.columns.iter().map(String::as_str).collect();
     let rec = Recording::load_with(&args.input, &columns, args.moving_column.as_deref(), &args.input_opts.options())?;
@@ -91,6 +101,9 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
     let mut static_raw = vec![Vec::new(); axes];
     let mut static_comp = vec![Vec::new(); axes];
     let mut failed = None;
+    let plotting = args.plot.is_some();
+    let mut traces: Vec<AxisTrace> = rec.columns().iter().map(|c| AxisTrace { column: c.clone(), ..AxisTrace::default() }).collect();
+    let (mut moving, mut rejected) = (Vec::new(), Vec::new());
     let mut progress = Progress::new("compensate", rec.len() as u64);
     let started = Instant::now();
     let run = compensate_recording(&config, &rec, |i, out| {
@@ -99,6 +112,16 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
             && let Err(e) = writer.write(i, out)
         {
             failed = Some(e);
+        }
+        if plotting {
+            moving.push(out.status & STATUS_MOVING != 0);
+            rejected.push(out.status & STATUS_REJECTED != 0);
+            for (axis, trace) in traces.iter_mut().enumerate() {
+                trace.raw.push(rec.rate(axis).map_or(f64::NAN, |r| r[i]));
+                trace.drift.push(out.drift_dps[axis]);
+                trace.drift_std.push(out.drift_std_dps[axis]);
+                trace.compensated.push(out.rate_dps[axis]);
+            }
         }
         if out.status & (STATUS_MOVING | STATUS_REJECTED) == 0 {
             for axis in 0..axes {
@@ -112,6 +135,16 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
         return Err(write_err(e).into());
     }
     writer.finish().map_err(write_err)?;
+    if let Some(path) = &args.plot {
+        let figure = CompensateFigure {
+            title: format!("gyrocomp compensate: {}", file_name(&args.input)),
+            t_s: rec.t_s(),
+            moving: &moving,
+            rejected: &rejected,
+            axes: &traces,
+        };
+        save(&figure, path)?;
+    }
     let stats = run.stats;
     let summary = Summary {
         input: args.input.display().to_string(),

@@ -39,6 +39,9 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     if args.protocol == Protocol::Motion {
         return super::eval_motion::run(args);
     }
+    if args.plot.is_some() {
+        return Err("--plot draws the motion protocol's angle errors: use it with --protocol motion".into());
+    }
     let kinds = parse_models::<ModelKind>(args.models.as_deref())?.unwrap_or_else(|| ModelKind::ALL.to_vec());
     let settings = Config::load(args.config.as_deref())?;
     let series = load_series(&args.input, &args.column, None, &args.input_opts.options())?;

@@ -65,6 +65,10 @@ pub struct EvalArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Motion protocol: also draw each model's angle error per motion segment against the
+    /// white-noise floor into this file (.svg or .png, by its extension).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 }
 
 /// Parses the `--models` names for one protocol; `None` without `--models`.

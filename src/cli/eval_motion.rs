@@ -15,6 +15,8 @@ use serde::Serialize;
 use super::CliError;
 use crate::config::Config;
 use super::eval_args::{EvalArgs, parse_models};
+use super::plot::motion::{ModelErrors, MotionFigure};
+use super::plot::{PlotFormat, file_name, save};
 use super::progress::Progress;
 use crate::eval::motion::MotionScores;
 use crate::model::metrics::quantile;
@@ -60,6 +62,9 @@ struct ModelRow {
 /// Runs the motion-injected protocol.
 pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     let kinds = parse_models::<MotionModel>(args.models.as_deref())?.unwrap_or_else(|| MotionModel::ALL.to_vec());
+    if let Some(path) = &args.plot {
+        PlotFormat::of(path)?; // before the models run, not after
+    }
     let config = Config::load(args.config.as_deref())?;
     // Finite rates and truth, with line-exact errors; the flags checked to be 0/1 the same way.
     let input = args.input_opts.options();
@@ -98,6 +103,23 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         startup_s: args.startup_s,
         highpass_hz: args.highpass_hz,
     };
+    if let Some(path) = &args.plot {
+        let models: Vec<ModelErrors> = rows
+            .iter()
+            .map(|r| ModelErrors {
+                name: r.name.name().to_owned(),
+                angle_err_deg: r.scores.angle_err_deg_segments.clone(),
+                median_deg: r.scores.angle_err_deg_median,
+            })
+            .collect();
+        let figure = MotionFigure {
+            title: format!("Angle error per motion: {} of {}", info.column, file_name(&args.input)),
+            models: &models,
+            floor_deg: &info.white_floor_deg_segments,
+            segment_s: &info.segment_s,
+        };
+        save(&figure, path)?;
+    }
     if args.json {
         println!("{}", serde_json::json!({ "protocol": "motion", "data": info, "models": rows }));
     } else {

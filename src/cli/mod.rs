@@ -11,6 +11,7 @@ pub mod eval_args;
 pub mod eval_motion;
 pub mod input;
 pub mod motion;
+pub mod plot;
 pub mod progress;
 pub mod sim;
 pub mod simgap;

@@ -1,5 +1,5 @@
 //! The HTML report of `gyrocomp simgap --report DIR`: one self-contained `index.html` with
-//! hand-written SVG plots (no scripts): the Allan deviation and the PSD bands of the real
+//! inline SVG plots drawn by [`super::plot::simgap`] (no scripts): the Allan deviation and the PSD bands of the real
 //! recording against the simulated 95 % band before and after the chosen effects (hold-out and
 //! training part), the bias trajectory, the effect ranking, and the table of where the gap lies.
 
@@ -8,175 +8,12 @@ use std::path::{Path, PathBuf};
 
 use super::CliError;
 use super::simgap_args::SimgapArgs;
+use super::plot::simgap::{Band, BandFigure, RankingFigure, RankingRow};
+use super::plot::to_svg;
 use super::simgap_json::where_entries;
 use crate::diag::simgap::Diagnosis;
 use crate::diag::simgap::gap::PartComparison;
 use crate::diag::simgap::stats::{StatInfo, fmt_num};
-
-const WIDTH: f64 = 640.0;
-const HEIGHT: f64 = 360.0;
-const MARGIN: (f64, f64, f64, f64) = (70.0, 20.0, 30.0, 50.0); // left, right, top, bottom
-const BEFORE_FILL: &str = "#bbbbbb";
-const AFTER_FILL: &str = "#6fa8dc";
-const REAL_COLOUR: &str = "#c0392b";
-
-/// An axis of a plot: linear or log10, with its data range.
-#[derive(Debug, Clone, Copy)]
-struct Axis {
-    log: bool,
-    lo: f64,
-    hi: f64,
-}
-
-impl Axis {
-    fn fit(values: impl Iterator<Item = f64>, log: bool) -> Axis {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for v in values.filter(|v| v.is_finite() && (!log || *v > 0.0)) {
-            let v = if log { v.log10() } else { v };
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
-        if !lo.is_finite() {
-            (lo, hi) = (0.0, 1.0);
-        }
-        let pad = if hi > lo { 0.05 * (hi - lo) } else { 0.5 };
-        Axis { log, lo: lo - pad, hi: hi + pad }
-    }
-
-    fn frac(&self, v: f64) -> f64 {
-        let v = if self.log { v.max(1e-300).log10() } else { v };
-        (v - self.lo) / (self.hi - self.lo)
-    }
-
-    /// Tick positions (in data units) with labels.
-    fn ticks(&self) -> Vec<(f64, String)> {
-        if self.log {
-            let (a, b) = (self.lo.ceil() as i32, self.hi.floor() as i32);
-            let step = ((b - a) / 6 + 1).max(1);
-            (a..=b).step_by(step as usize).map(|e| (10f64.powi(e), format!("1e{e}"))).collect()
-        } else {
-            let span = self.hi - self.lo;
-            let raw = span / 5.0;
-            let mag = 10f64.powf(raw.log10().floor());
-            let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|s| span / s <= 6.0).unwrap_or(mag * 10.0);
-            let mut t = (self.lo / step).ceil() * step;
-            let mut out = Vec::new();
-            while t <= self.hi {
-                out.push((t, fmt_num(if t.abs() < 1e-12 * step { 0.0 } else { t })));
-                t += step;
-            }
-            out
-        }
-    }
-}
-
-/// An SVG plot under construction.
-struct Plot {
-    svg: String,
-    x: Axis,
-    y: Axis,
-}
-
-impl Plot {
-    fn new(title: &str, x: Axis, y: Axis, x_label: &str, y_label: &str) -> Plot {
-        let mut p = Plot { svg: String::new(), x, y };
-        let (l, r, t, b) = MARGIN;
-        let _ = write!(
-            p.svg,
-            r##"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" font-family="sans-serif" font-size="11"><rect x="{l}" y="{t}" width="{}" height="{}" fill="white" stroke="#444"/><text x="{}" y="16" text-anchor="middle" font-size="13">{}</text><text x="{}" y="{}" text-anchor="middle">{}</text><text x="14" y="{}" text-anchor="middle" transform="rotate(-90 14 {})">{}</text>"##,
-            WIDTH - l - r,
-            HEIGHT - t - b,
-            WIDTH / 2.0,
-            escape(title),
-            l + (WIDTH - l - r) / 2.0,
-            HEIGHT - 12.0,
-            escape(x_label),
-            t + (HEIGHT - t - b) / 2.0,
-            t + (HEIGHT - t - b) / 2.0,
-            escape(y_label)
-        );
-        for (v, label) in x.ticks() {
-            let px = p.px(v);
-            let _ = write!(
-                p.svg,
-                r##"<line x1="{px:.1}" y1="{}" x2="{px:.1}" y2="{}" stroke="#ddd"/><text x="{px:.1}" y="{}" text-anchor="middle">{label}</text>"##,
-                t,
-                HEIGHT - b,
-                HEIGHT - b + 14.0
-            );
-        }
-        for (v, label) in y.ticks() {
-            let py = p.py(v);
-            let _ = write!(
-                p.svg,
-                r##"<line x1="{l}" y1="{py:.1}" x2="{}" y2="{py:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{label}</text>"##,
-                WIDTH - r,
-                l - 4.0,
-                py + 4.0
-            );
-        }
-        p
-    }
-
-    fn px(&self, v: f64) -> f64 {
-        MARGIN.0 + self.x.frac(v) * (WIDTH - MARGIN.0 - MARGIN.1)
-    }
-
-    fn py(&self, v: f64) -> f64 {
-        HEIGHT - MARGIN.3 - self.y.frac(v) * (HEIGHT - MARGIN.2 - MARGIN.3)
-    }
-
-    fn band(&mut self, x: &[f64], lo: &[f64], hi: &[f64], fill: &str) {
-        let mut points: Vec<String> =
-            x.iter().zip(hi).map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))).collect();
-        points.extend(x.iter().zip(lo).rev().map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))));
-        let _ = write!(
-            self.svg,
-            r#"<polygon points="{}" fill="{fill}" fill-opacity="0.45" stroke="none"/>"#,
-            points.join(" ")
-        );
-    }
-
-    fn line(&mut self, x: &[f64], y: &[f64], colour: &str, dashed: bool, dots: bool) {
-        let points: Vec<String> =
-            x.iter().zip(y).map(|(&a, &b)| format!("{:.1},{:.1}", self.px(a), self.py(b))).collect();
-        let dash = if dashed { r#" stroke-dasharray="4 3""# } else { "" };
-        let _ = write!(
-            self.svg,
-            r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.6"{dash}/>"#,
-            points.join(" ")
-        );
-        if dots {
-            for (&a, &b) in x.iter().zip(y) {
-                let _ = write!(
-                    self.svg,
-                    r#"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="{colour}"/>"#,
-                    self.px(a),
-                    self.py(b)
-                );
-            }
-        }
-    }
-
-    fn legend(&mut self, entries: &[(&str, &str)]) {
-        for (i, (colour, label)) in entries.iter().enumerate() {
-            let y = MARGIN.2 + 14.0 + 15.0 * i as f64;
-            let x = WIDTH - MARGIN.1 - 190.0;
-            let _ = write!(
-                self.svg,
-                r#"<rect x="{x}" y="{:.1}" width="14" height="9" fill="{colour}" fill-opacity="0.7"/><text x="{}" y="{y:.1}">{}</text>"#,
-                y - 8.0,
-                x + 18.0,
-                escape(label)
-            );
-        }
-    }
-
-    fn finish(mut self) -> String {
-        self.svg.push_str("</svg>");
-        self.svg
-    }
-}
 
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
@@ -186,18 +23,19 @@ fn escape(s: &str) -> String {
 struct Series {
     x: Vec<f64>,
     real: Vec<f64>,
-    bands: [(Vec<f64>, Vec<f64>, Vec<f64>); 2],
+    bands: [Band; 2],
 }
 
 fn series(info: &[StatInfo], before: &PartComparison, after: &PartComparison, keep: &str) -> Series {
-    let idx: Vec<usize> = (0..info.len()).filter(|&i| info[i].statistic == keep).collect();
+    let mut idx: Vec<usize> = (0..info.len()).filter(|&i| info[i].statistic == keep).collect();
+    // In time/τ/frequency order: the bias trajectory lists its regular blocks, then the finer
+    // early ones, which a line in list order would zigzag through.
+    idx.sort_by(|&a, &b| info[a].x.total_cmp(&info[b].x));
     let nat = |i: usize, v: f64| info[i].natural(v);
-    let band = |p: &PartComparison| {
-        (
-            idx.iter().map(|&i| nat(i, p.bands[i].lo)).collect(),
-            idx.iter().map(|&i| nat(i, p.bands[i].median)).collect(),
-            idx.iter().map(|&i| nat(i, p.bands[i].hi)).collect(),
-        )
+    let band = |p: &PartComparison| Band {
+        lo: idx.iter().map(|&i| nat(i, p.bands[i].lo)).collect(),
+        median: idx.iter().map(|&i| nat(i, p.bands[i].median)).collect(),
+        hi: idx.iter().map(|&i| nat(i, p.bands[i].hi)).collect(),
     };
     Series {
         x: idx.iter().map(|&i| info[i].x).collect(),
@@ -206,75 +44,30 @@ fn series(info: &[StatInfo], before: &PartComparison, after: &PartComparison, ke
     }
 }
 
-fn band_plot(title: &str, s: &Series, x_label: &str, y_label: &str, log: bool, after_label: &str) -> String {
-    let all_y = s.real.iter().chain(s.bands.iter().flat_map(|(a, b, c)| a.iter().chain(b).chain(c))).copied();
-    let mut p = Plot::new(title, Axis::fit(s.x.iter().copied(), log), Axis::fit(all_y, log), x_label, y_label);
-    for (k, fill) in [(0, BEFORE_FILL), (1, AFTER_FILL)] {
-        let (lo, med, hi) = &s.bands[k];
-        p.band(&s.x, lo, hi, fill);
-        p.line(&s.x, med, fill, true, false);
-    }
-    p.line(&s.x, &s.real, REAL_COLOUR, false, true);
-    p.legend(&[(REAL_COLOUR, "real"), (BEFORE_FILL, "baseline sim, 95 % band"), (AFTER_FILL, after_label)]);
-    p.finish()
+fn band_plot(title: &str, s: &Series, labels: (&str, &str), log: bool, after_label: &str) -> Result<String, CliError> {
+    let figure = BandFigure {
+        title: title.to_owned(),
+        x: &s.x,
+        real: &s.real,
+        before: &s.bands[0],
+        after: &s.bands[1],
+        after_label,
+        labels,
+        log,
+    };
+    Ok(to_svg(&figure).map_err(|e| format!("simgap report, {title}: {e}"))?)
 }
 
-fn ranking_plot(d: &Diagnosis) -> String {
-    let rows: Vec<(&str, f64, f64)> = d
+fn ranking_plot(d: &Diagnosis) -> Result<String, CliError> {
+    let rows: Vec<RankingRow> = d
         .effects
         .iter()
-        .filter_map(|e| e.evaluation.as_ref().map(|ev| (e.kind.name(), ev.train.score.gap, ev.hold.score.gap)))
+        .filter_map(|e| {
+            e.evaluation.as_ref().map(|ev| RankingRow { name: e.kind.name().to_owned(), train: ev.train.score.gap, hold: ev.hold.score.gap })
+        })
         .collect();
-    let base = (d.before.train.score.gap, d.before.hold.score.gap);
-    let max = rows.iter().flat_map(|r| [r.1, r.2]).chain([base.0, base.1]).fold(0.0, f64::max) * 1.1;
-    let (l, top) = (110.0, 40.0);
-    let row_h = 34.0;
-    let height = top + row_h * rows.len() as f64 + 40.0;
-    let w = WIDTH - l - 30.0;
-    let x = |v: f64| l + w * v / max.max(1e-12);
-    let mut svg = format!(
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{height}" font-family="sans-serif" font-size="11"><text x="{}" y="16" text-anchor="middle" font-size="13">Gap with each effect added (shorter is better)</text>"##,
-        WIDTH / 2.0
-    );
-    for (label, v, colour) in [("baseline, training", base.0, "#555"), ("baseline, hold-out", base.1, REAL_COLOUR)] {
-        let _ = write!(
-            svg,
-            r#"<line x1="{:.1}" y1="{}" x2="{:.1}" y2="{}" stroke="{colour}" stroke-dasharray="4 3"/><text x="{:.1}" y="{}" text-anchor="middle" fill="{colour}">{label}</text>"#,
-            x(v),
-            top - 6.0,
-            x(v),
-            height - 30.0,
-            x(v),
-            if colour == "#555" { top - 10.0 } else { height - 16.0 }
-        );
-    }
-    for (i, (name, train, hold)) in rows.iter().enumerate() {
-        let y = top + row_h * i as f64;
-        let _ = write!(
-            svg,
-            r##"<text x="{}" y="{:.1}" text-anchor="end">{name}</text><rect x="{l}" y="{:.1}" width="{:.1}" height="11" fill="#888"/><rect x="{l}" y="{:.1}" width="{:.1}" height="11" fill="{AFTER_FILL}"/><text x="{:.1}" y="{:.1}">{train:.2} / {hold:.2}</text>"##,
-            l - 6.0,
-            y + 16.0,
-            y + 4.0,
-            x(*train) - l,
-            y + 16.0,
-            x(*hold) - l,
-            x(train.max(*hold)) + 4.0,
-            y + 14.0
-        );
-    }
-    let _ = write!(
-        svg,
-        r##"<rect x="{l}" y="{:.1}" width="12" height="9" fill="#888"/><text x="{}" y="{:.1}">training</text><rect x="{}" y="{:.1}" width="12" height="9" fill="{AFTER_FILL}"/><text x="{}" y="{:.1}">hold-out</text></svg>"##,
-        height - 10.0,
-        l + 16.0,
-        height - 2.0,
-        l + 90.0,
-        height - 10.0,
-        l + 106.0,
-        height - 2.0
-    );
-    svg
+    let figure = RankingFigure { rows: &rows, baseline: (d.before.train.score.gap, d.before.hold.score.gap) };
+    Ok(to_svg(&figure).map_err(|e| format!("simgap report, ranking: {e}"))?)
 }
 
 /// Writes `dir/index.html`; returns its path.
@@ -320,21 +113,26 @@ pub fn write_report(dir: &Path, args: &SimgapArgs, d: &Diagnosis) -> Result<Path
     ] {
         let _ = write!(html, "<h2>{part} part</h2><div>");
         let allan = series(info, before, after, "allan_deviation");
-        html.push_str(&band_plot(&format!("Allan deviation, {part}"), &allan, "tau (s)", "deg/s", true, &after_label));
+        html.push_str(&band_plot(
+            &format!("Allan deviation, {part}"),
+            &allan,
+            ("τ (s)", "Allan deviation (deg/s)"),
+            true,
+            &after_label,
+        )?);
         let psd = series(info, before, after, "psd");
-        html.push_str(&band_plot(&format!("PSD bands, {part}"), &psd, "Hz", "(deg/s)^2/Hz", true, &after_label));
+        html.push_str(&band_plot(&format!("PSD bands, {part}"), &psd, ("f (Hz)", "PSD ((deg/s)²/Hz)"), true, &after_label)?);
         let traj = series(info, before, after, "bias_trajectory");
         html.push_str(&band_plot(
             &format!("Bias trajectory, {part}"),
             &traj,
-            "t (s)",
-            "deg/s from mean",
+            ("t (s)", "bias from mean (deg/s)"),
             false,
             &after_label,
-        ));
+        )?);
         html.push_str("</div>");
     }
-    let _ = write!(html, "<h2>Which effect</h2>{}", ranking_plot(d));
+    let _ = write!(html, "<h2>Which effect</h2>{}", ranking_plot(d)?);
     html.push_str("<h2>Where (hold-out part, baseline)</h2><table><tr><th>statistic</th><th>band</th><th>real</th><th>sim 2.5 %</th><th>sim 97.5 %</th><th>z</th></tr>");
     for e in where_entries(d.layout_hold.info(), &d.before.hold) {
         let _ = write!(

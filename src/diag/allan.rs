@@ -121,6 +121,75 @@ impl AllanDeviation {
     }
 }
 
+impl AllanDeviation {
+    /// Degrees of freedom ν of each point for its confidence interval: ν = ⌊N/m⌋ − 1 (at least
+    /// 1), the number of non-overlapping clusters of m samples less one. This is the simple,
+    /// noise-type-free count (IEEE Std 952-1997 Annex C, σ(δ)/σ = 1/√(2(K − 1))); the overlapping
+    /// estimator has somewhat more degrees of freedom (NIST SP 1065 §5.3), so intervals from it
+    /// are on the safe (wide) side.
+    pub fn dof(&self) -> Vec<f64> {
+        self.m.iter().map(|&m| ((self.samples / m.max(1)) as f64 - 1.0).max(1.0)).collect()
+    }
+
+    /// The two-sided `level` (e.g. 0.683 or 0.95) χ² confidence interval of each point's Allan
+    /// deviation with ν = [`dof`](Self::dof): σ·√(ν/χ²_{(1+level)/2}(ν)) … σ·√(ν/χ²_{(1−level)/2}(ν)).
+    pub fn confidence_band(&self, level: f64) -> Vec<(f64, f64)> {
+        let (p_lo, p_hi) = ((1.0 - level) / 2.0, (1.0 + level) / 2.0);
+        self.adev
+            .iter()
+            .zip(self.dof())
+            .map(|(&d, nu)| (d * (nu / chi_square_quantile(p_hi, nu)).sqrt(), d * (nu / chi_square_quantile(p_lo, nu)).sqrt()))
+            .collect()
+    }
+}
+
+/// Quantile of the standard normal distribution at probability `p` ∈ (0, 1) (Acklam's rational
+/// approximation, relative error < 1.2e-9); ±∞ at 0 and 1, NaN outside.
+pub fn normal_quantile(p: f64) -> f64 {
+    const A: [f64; 6] =
+        [-3.969683028665376e1, 2.209460984245205e2, -2.759285104469687e2, 1.38357751867269e2, -3.066479806614716e1, 2.506628277459239];
+    const B: [f64; 5] = [-5.447609879822406e1, 1.615858368580409e2, -1.556989798598866e2, 6.680131188771972e1, -1.328068155288572e1];
+    const C: [f64; 6] =
+        [-7.784894002430293e-3, -3.223964580411365e-1, -2.400758277161838, -2.549732539343734, 4.374664141464968, 2.938163982698783];
+    const D: [f64; 4] = [7.784695709041462e-3, 3.224671290700398e-1, 2.445134137142996, 3.754408661907416];
+    if !(0.0..=1.0).contains(&p) {
+        return f64::NAN;
+    }
+    if p == 0.0 || p == 1.0 {
+        return if p == 0.0 { f64::NEG_INFINITY } else { f64::INFINITY };
+    }
+    let tail = |q: f64| {
+        let u = (-2.0 * q.ln()).sqrt();
+        (((((C[0] * u + C[1]) * u + C[2]) * u + C[3]) * u + C[4]) * u + C[5]) / ((((D[0] * u + D[1]) * u + D[2]) * u + D[3]) * u + 1.0)
+    };
+    if p < 0.02425 {
+        tail(p)
+    } else if p > 1.0 - 0.02425 {
+        -tail(1.0 - p)
+    } else {
+        let q = p - 0.5;
+        let r = q * q;
+        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
+            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
+    }
+}
+
+/// Quantile of the χ² distribution with ν > 0 degrees of freedom at probability `p` ∈ (0, 1):
+/// exact for ν = 1 (the square of a normal quantile) and ν = 2 (an exponential), the
+/// Wilson–Hilferty cube approximation otherwise (under 1 % off for ν ≥ 3 at 2.5–97.5 %).
+pub fn chi_square_quantile(p: f64, nu: f64) -> f64 {
+    if nu == 1.0 {
+        let z = normal_quantile((1.0 + p) / 2.0);
+        return z * z;
+    }
+    if nu == 2.0 {
+        return -2.0 * (1.0 - p).ln();
+    }
+    let s = 2.0 / (9.0 * nu);
+    let c = 1.0 - s + normal_quantile(p) * s.sqrt();
+    nu * c.max(1e-6).powi(3)
+}
+
 /// Why the Allan deviation could not be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum AllanError {
@@ -314,6 +383,27 @@ mod tests {
         ));
         assert_eq!(oadev(&[1.0; 10], 1.0, &Taus::Seconds(vec![f64::INFINITY])), Err(AllanError::BadTau(f64::INFINITY)));
         assert!(matches!(oadev(&[1.0; 10], 1.0, &Taus::Factors(vec![])), Err(AllanError::TooFewSamples { .. })));
+    }
+
+    #[test]
+    fn chi_square_quantiles_and_bands() {
+        assert!((normal_quantile(0.975) - 1.959_964).abs() < 1e-6);
+        assert!((normal_quantile(0.5)).abs() < 1e-12);
+        // Tables: χ²(1) 0.975 → 5.024; χ²(2) 0.025 → 0.0506; χ²(10) 0.025/0.975 → 3.247/20.483.
+        assert!((chi_square_quantile(0.975, 1.0) - 5.0239).abs() < 1e-3);
+        assert!((chi_square_quantile(0.025, 2.0) - 0.05064).abs() < 1e-4);
+        assert!((chi_square_quantile(0.025, 10.0) / 3.2470 - 1.0).abs() < 0.01);
+        assert!((chi_square_quantile(0.975, 10.0) / 20.483 - 1.0).abs() < 0.01);
+        let x: Vec<f64> = (0..4096).map(|k| ((k * 7919) % 101) as f64).collect();
+        let a = oadev(&x, 1.0, &Taus::Octave).unwrap();
+        assert_eq!(a.dof()[0], 4095.0);
+        let band = a.confidence_band(0.683);
+        for ((lo, hi), d) in band.iter().zip(&a.adev) {
+            assert!(lo < d && d < hi, "{lo} {d} {hi}");
+        }
+        // Relative width falls with ν: widest at the longest τ.
+        let rel: Vec<f64> = band.iter().zip(&a.adev).map(|((lo, hi), d)| (hi - lo) / d).collect();
+        assert!(rel.first() < rel.last());
     }
 
     #[test]

@@ -8,7 +8,10 @@
 //!   deg/√s is the same quantity (rad/s/√Hz ≡ rad/√s) times π/180.
 //! - `gyroscope_random_walk` σ_bg, rad/s²/√Hz: the rate random walk **K**, the +½-slope line read
 //!   at τ = 3 s (σ²(τ) = K²τ/3). Our K in deg/s/√s times π/180.
-//! - `update_rate`, Hz: the sample rate (Kalibr discretises σ_g·√rate and σ_bg/√rate itself).
+//! - `update_rate`, Hz: the sample rate (Kalibr discretises σ_g·√rate and σ_bg/√rate itself),
+//!   rounded to [`UPDATE_RATE_DIGITS`] significant digits: a rate estimated from the time column,
+//!   (rows − 1)/(t_last − t_first), carries the rounding of the timestamps (a 100 Hz file gives
+//!   99.99999999999997), which is not the rate of the sensor.
 //!
 //! Bias instability B (the flat floor) has no place in Kalibr's model; where the recording is too
 //! short for K to show, the fit's K is 0 and Kalibr would trust the bias for ever. Then
@@ -23,6 +26,20 @@ use super::noise_model::NoiseModel;
 /// Radians per degree.
 const RAD_PER_DEG: f64 = std::f64::consts::PI / 180.0;
 
+/// Significant digits of `update_rate` (module documentation): 6 keeps any real rate (e.g.
+/// 199.608 Hz) and drops the ~1e-14 relative rounding of a rate computed from timestamps.
+pub const UPDATE_RATE_DIGITS: i32 = 6;
+
+/// `x` rounded to `digits` significant digits (0, NaN and infinities unchanged).
+pub fn round_significant(x: f64, digits: i32) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    // Through the decimal text, so the result is the double nearest the rounded decimal value
+    // (100 exactly, not 100.00000000000001 from a scale-round-unscale in binary).
+    format!("{:.*e}", (digits - 1).max(0) as usize, x).parse().unwrap_or(x)
+}
+
 /// The gyroscope keys of a Kalibr `imu.yaml` (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct KalibrGyro {
@@ -30,7 +47,7 @@ pub struct KalibrGyro {
     pub gyroscope_noise_density: f64,
     /// σ_bg = K, rad/s²/√Hz.
     pub gyroscope_random_walk: f64,
-    /// Sample rate, Hz.
+    /// Sample rate, Hz, rounded to [`UPDATE_RATE_DIGITS`] significant digits.
     pub update_rate: f64,
     /// Whether `gyroscope_random_walk` is the bound through the Allan minimum (the fit found no
     /// rate random walk).
@@ -55,7 +72,7 @@ impl KalibrGyro {
         Self {
             gyroscope_noise_density: model.n * RAD_PER_DEG,
             gyroscope_random_walk: k * RAD_PER_DEG,
-            update_rate: allan.rate_hz,
+            update_rate: round_significant(allan.rate_hz, UPDATE_RATE_DIGITS),
             random_walk_is_bound,
         }
     }
@@ -115,5 +132,21 @@ mod tests {
         let yaml = k.to_yaml("x.csv", Some("/imu0"));
         assert!(yaml.contains("rostopic: /imu0\nupdate_rate: 10\n"), "{yaml}");
         assert!(yaml.contains("the +1/2-slope bound"), "{yaml}");
+    }
+
+    #[test]
+    fn update_rate_drops_the_rounding_of_timestamps() {
+        // 1000 rows at 100 Hz: (n − 1)/span with span = 9.99 s in floating point.
+        let t_last = 999.0 / 100.0;
+        let estimated = 999.0 / (t_last - 0.0);
+        let mut a = allan(&[0.01, 0.02], &[0.1, 0.07]);
+        for (rate, printed) in [(99.99999999999997, "100"), (estimated, "100"), (199.608, "199.608"), (0.5, "0.5")] {
+            a.rate_hz = rate;
+            let k = KalibrGyro::from_fit(&NoiseModel { n: 0.01, k: 0.001, ..NoiseModel::default() }, &a);
+            assert!(k.to_yaml("x", None).contains(&format!("\nupdate_rate: {printed}\n")), "{rate}: {}", k.to_yaml("x", None));
+        }
+        assert_eq!(round_significant(99.99999999999997, 6), 100.0);
+        assert_eq!(round_significant(123_456_789.0, 6), 123_457_000.0);
+        assert_eq!(round_significant(0.0, 6), 0.0);
     }
 }

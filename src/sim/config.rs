@@ -402,6 +402,21 @@ impl AxisConfig {
 }
 
 impl SimConfig {
+    /// A run of `duration_s` at `rate_hz` with the same error model `axis` on x, y and z (no
+    /// per-axis overrides, no temperature profile, no fixed seed).
+    pub fn with_axis(rate_hz: f64, duration_s: f64, axis: AxisConfig) -> Self {
+        SimConfig {
+            rate_hz,
+            duration_s,
+            seed: None,
+            temperature: TemperatureConfig::default(),
+            axis,
+            x: AxisConfig::default(),
+            y: AxisConfig::default(),
+            z: AxisConfig::default(),
+        }
+    }
+
     /// Parses a TOML document (unknown keys are errors that name the key and its line).
     pub fn from_toml(text: &str) -> Result<Self, ConfigError> {
         let config: SimConfig =
