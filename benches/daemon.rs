@@ -33,7 +33,8 @@ fn roundtrip(c: &mut Criterion, mode: WaitMode, label: &str) {
     // Live retraining as in production (never waits), but every 2 s instead of 60 s so that the
     // warm-up gets a model: fixed-size LS-SVM (100 prototypes) on a 1000-sample window.
     (config.retrain.schedule.mode, config.retrain.schedule.interval_s) = (gyrocomp::stream::RetrainMode::Live, 2.0);
-    (config.retrain.schedule.window, config.retrain.schedule.min_samples, config.retrain.fit.exact_max_rows) = (1000, 500, 100);
+    (config.retrain.schedule.window, config.retrain.schedule.min_samples, config.retrain.fit.exact_max_rows) =
+        (1000, 500, 100);
     config.ipc.wait = mode;
     config.ipc.domain_prefix = domain.prefix();
     config.ipc.domain_root = domain.root_path();

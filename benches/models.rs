@@ -18,10 +18,10 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use gyrocomp::model::Fit;
+use gyrocomp::model::embed::Embedding;
 use gyrocomp::model::lssvm::kernel::kernel_plus_ridge;
 use gyrocomp::model::lssvm::{CpsoLssvm, LssvmConfig, NystromConfig};
 use gyrocomp::model::scaler::MinMaxScaler;
-use gyrocomp::model::embed::Embedding;
 use gyrocomp::wavelet::{DenoiseConfig, denoise_batch};
 
 const SAMPLES: usize = 5021;

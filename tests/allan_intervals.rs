@@ -16,7 +16,8 @@ const RRW_DEG_H_RT_H: f64 = 600.0;
 
 /// The intervals of every axis of seeds 1..=`seeds` at `samples` samples.
 fn intervals(samples: usize, seeds: u64) -> Vec<FitIntervals> {
-    let axis = AxisConfig { arw_deg_rt_h: Some(ARW_DEG_RT_H), rrw_deg_h_rt_h: Some(RRW_DEG_H_RT_H), ..AxisConfig::default() };
+    let axis =
+        AxisConfig { arw_deg_rt_h: Some(ARW_DEG_RT_H), rrw_deg_h_rt_h: Some(RRW_DEG_H_RT_H), ..AxisConfig::default() };
     let cfg = SimConfig::with_axis(RATE_HZ, samples as f64 / RATE_HZ, axis);
     let mut out = Vec::new();
     for seed in 1..=seeds {

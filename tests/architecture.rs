@@ -277,8 +277,7 @@ fn expand(s: &str) -> Vec<Vec<String>> {
 /// binary, `gyrocomp`; resolved to library module paths.
 fn imports(source: &Source) -> Vec<Import> {
     let text = strip_cfg_test(&strip(&source.text));
-    let line_starts: Vec<usize> =
-        std::iter::once(0).chain(text.match_indices('\n').map(|(k, _)| k + 1)).collect();
+    let line_starts: Vec<usize> = std::iter::once(0).chain(text.match_indices('\n').map(|(k, _)| k + 1)).collect();
     let line_of = |at: usize| line_starts.partition_point(|&s| s <= at);
     let mut found = Vec::new();
     let roots: &[&str] = if source.is_bin { &["gyrocomp"] } else { &["crate", "super"] };
@@ -557,7 +556,12 @@ fn circle_violations(sources: &[Source]) -> Vec<Violation> {
 
 /// Lines of a `mod.rs` that hold `pub use` re-exports of its children.
 fn pub_use_lines(text: &str) -> BTreeSet<usize> {
-    strip(text).lines().enumerate().filter(|(_, l)| l.trim_start().starts_with("pub use ")).map(|(k, _)| k + 1).collect()
+    strip(text)
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim_start().starts_with("pub use "))
+        .map(|(k, _)| k + 1)
+        .collect()
 }
 
 /// Whether `dir` is a `mod.rs`/`lib.rs` of a module that contains `file`: a file using its
@@ -606,7 +610,12 @@ fn no_circles_between_files_or_modules() {
     let (known, new): (Vec<Violation>, Vec<Violation>) = found.into_iter().partition(is_known);
     assert!(new.is_empty(), "{} import circles:\n{}", new.len(), report(&new));
     if std::env::var_os("GYROCOMP_ARCH_ROOT").is_none() {
-        assert_eq!(known.len(), KNOWN_CIRCLES.len(), "a known circle is gone: remove it from KNOWN_CIRCLES\n{}", report(&known));
+        assert_eq!(
+            known.len(),
+            KNOWN_CIRCLES.len(),
+            "a known circle is gone: remove it from KNOWN_CIRCLES\n{}",
+            report(&known)
+        );
     }
 }
 
@@ -619,11 +628,17 @@ fn synthetic(files: &[(&str, &str)]) -> Vec<Source> {
 #[test]
 fn checker_finds_a_wrong_way_import_with_file_and_line() {
     let sources = synthetic(&[
-        ("src/stream/x.rs", "//! doc naming crate::config::Config is fine\n\nuse crate::model::Fit;\nuse crate::{wavelet::Wavelet, config::Config};\n"),
+        (
+            "src/stream/x.rs",
+            "//! doc naming crate::config::Config is fine\n\nuse crate::model::Fit;\nuse crate::{wavelet::Wavelet, config::Config};\n",
+        ),
         ("src/model/y.rs", "fn f() { let e = super::super::stream::Pipeline::new(); }\n"),
         ("src/bin/gyrocompd.rs", "use gyrocomp::cli::error_chain;\n"),
         ("src/bin/gyrocomp.rs", "use gyrocomp::cli::{Cli, run};\n"),
-        ("src/io/z.rs", "#[cfg(test)]\nmod tests {\n    use crate::daemon::Daemon;\n}\nconst S: &str = \"crate::cli::x\";\n"),
+        (
+            "src/io/z.rs",
+            "#[cfg(test)]\nmod tests {\n    use crate::daemon::Daemon;\n}\nconst S: &str = \"crate::cli::x\";\n",
+        ),
     ]);
     let found = layer_violations(&sources);
     let text: Vec<&str> = found.iter().map(|v| v.0.as_str()).collect();

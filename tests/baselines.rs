@@ -2,11 +2,11 @@
 //! with known answers, bad input, and a sanity run on a real recording.
 
 use gyrocomp::model::baselines::{Ar, BiasHold, LinearPsr, Mean, Persistence};
+use gyrocomp::model::embed::Embedding;
 use gyrocomp::model::metrics::Metrics;
 use gyrocomp::model::rng::SplitMix64;
 use gyrocomp::model::scaler::MinMaxScaler;
 use gyrocomp::model::{Fit, FitError, Predict, predict_from};
-use gyrocomp::model::embed::Embedding;
 
 /// A standard normal value from two SplitMix64 uniforms (Box–Muller), for simulated series.
 fn normal(rng: &mut SplitMix64) -> f64 {

@@ -2,11 +2,11 @@
 //! deterministic per seed, rejects bad input, and runs on a real recording.
 
 use gyrocomp::model::bp_ann::{BpAnn, OutputActivation, StopReason, ValSplit};
+use gyrocomp::model::embed::Embedding;
 use gyrocomp::model::metrics::Metrics;
 use gyrocomp::model::rng::SplitMix64;
 use gyrocomp::model::scaler::MinMaxScaler;
 use gyrocomp::model::{Fit, FitError, Predict, predict_from};
-use gyrocomp::model::embed::Embedding;
 
 /// y = (sin 2x₁ + x₂x₃)/2, halved so that a tanh output can reach it.
 fn target(x: &[f64]) -> f64 {

@@ -153,7 +153,8 @@ fn real_adis16405_matches_published_allan_deviation() {
 
 /// The value of `key: value` in a YAML text written by `--format kalibr`.
 fn yaml_value(yaml: &str, key: &str) -> f64 {
-    let line = yaml.lines().find(|l| l.starts_with(&format!("{key}:"))).unwrap_or_else(|| panic!("no {key} in\n{yaml}"));
+    let line =
+        yaml.lines().find(|l| l.starts_with(&format!("{key}:"))).unwrap_or_else(|| panic!("no {key} in\n{yaml}"));
     line[key.len() + 1..].trim().parse().unwrap_or_else(|e| panic!("{key}: {e} in {line:?}"))
 }
 
@@ -164,8 +165,12 @@ fn kalibr_yaml_matches_an_independent_allantools_fit_and_the_true_terms() {
     let golden: Value = serde_json::from_str(include_str!("goldens/kalibr.json")).unwrap();
     let g = &golden["generator"];
     let (mut state, samples) = (g["seed"].as_u64().unwrap(), g["samples"].as_u64().unwrap() as usize);
-    let (white, step, bias, fs) =
-        (g["white"].as_f64().unwrap(), g["step"].as_f64().unwrap(), g["bias"].as_f64().unwrap(), g["rate_hz"].as_f64().unwrap());
+    let (white, step, bias, fs) = (
+        g["white"].as_f64().unwrap(),
+        g["step"].as_f64().unwrap(),
+        g["bias"].as_f64().unwrap(),
+        g["rate_hz"].as_f64().unwrap(),
+    );
     let mut draw = || {
         state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
         (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
@@ -195,11 +200,19 @@ fn kalibr_yaml_matches_an_independent_allantools_fit_and_the_true_terms() {
     }
     assert!(!yaml.contains("bound through the Allan minimum"), "{yaml}");
     // The JSON report carries the same values; --json and --format json are one thing.
-    let json: Value = serde_json::from_slice(&gyrocomp(&["allan", path, "--column", "gz_dps", "--format", "json"]).stdout).unwrap();
-    assert_eq!(json["kalibr"]["gyroscope_noise_density"].as_f64().unwrap(), yaml_value(&yaml, "gyroscope_noise_density"));
-    let legacy: Value = serde_json::from_slice(&gyrocomp(&["allan", path, "--column", "gz_dps", "--json"]).stdout).unwrap();
+    let json: Value =
+        serde_json::from_slice(&gyrocomp(&["allan", path, "--column", "gz_dps", "--format", "json"]).stdout).unwrap();
+    assert_eq!(
+        json["kalibr"]["gyroscope_noise_density"].as_f64().unwrap(),
+        yaml_value(&yaml, "gyroscope_noise_density")
+    );
+    let legacy: Value =
+        serde_json::from_slice(&gyrocomp(&["allan", path, "--column", "gz_dps", "--json"]).stdout).unwrap();
     assert_eq!(json, legacy);
-    assert!(!gyrocomp(&["allan", path, "--json", "--format", "text"]).status.success(), "--json conflicts with --format");
+    assert!(
+        !gyrocomp(&["allan", path, "--json", "--format", "text"]).status.success(),
+        "--json conflicts with --format"
+    );
 }
 
 #[test]

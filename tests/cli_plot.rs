@@ -85,7 +85,8 @@ fn allan_plot_shows_points_band_fit_and_terms() {
     let csv = recording(dir.path(), "2000");
     let svg = dir.path().join("allan.svg");
     ok(&["allan", &csv, "--plot", svg.to_str().unwrap()]);
-    let text = check_svg(&svg, &["Allan deviation", "averaging time τ (s)", "(deg/s)", "measured", "χ² band", "IEEE 952 fit"]);
+    let text =
+        check_svg(&svg, &["Allan deviation", "averaging time τ (s)", "(deg/s)", "measured", "χ² band", "IEEE 952 fit"]);
     assert!(text.contains("slope -1/2") || text.contains("slope +1/2") || text.contains("slope 0"), "a fitted term");
     check_png(&["allan", &csv], dir.path(), (960, 680));
 }
@@ -118,7 +119,20 @@ fn compensate_plot_shows_raw_drift_band_compensated_and_flags() {
     let out_csv = dir.path().join("out.csv").to_str().unwrap().to_owned();
     let args = [&args[..], &["--moving-column", "moving", "-o", &out_csv]].concat();
     ok(&[&args[..], &["--plot", svg.to_str().unwrap()]].concat());
-    let text = check_svg(&svg, &["raw rate", "drift estimate", "drift ±1σ", "compensated", "moving (", "gx_dps rate (deg/s)", "gy_dps drift (deg/s)", "raw rate, static samples", "time (s)"]);
+    let text = check_svg(
+        &svg,
+        &[
+            "raw rate",
+            "drift estimate",
+            "drift ±1σ",
+            "compensated",
+            "moving (",
+            "gx_dps rate (deg/s)",
+            "gy_dps drift (deg/s)",
+            "raw rate, static samples",
+            "time (s)",
+        ],
+    );
     // 3000 samples: drawn decimated to min/max per pixel column.
     assert!(text.contains("min/max per pixel column"));
     check_png(&args, dir.path(), (1200, 60 + 4 * 270));
@@ -135,9 +149,28 @@ fn eval_motion_plot_shows_each_model_against_the_floor() {
     let ten_hz = include_str!("../configs/adis16405_10hz.toml");
     std::fs::write(&config, format!("{ten_hz}\n{}", common::QUICK_RETRAIN)).unwrap();
     let svg = dir.path().join("motion.svg");
-    let args = ["eval", &moved, "--protocol", "motion", "--config", config.to_str().unwrap(), "--models", "bias-hold,last-static,highpass"];
+    let args = [
+        "eval",
+        &moved,
+        "--protocol",
+        "motion",
+        "--config",
+        config.to_str().unwrap(),
+        "--models",
+        "bias-hold,last-static,highpass",
+    ];
     ok(&[&args[..], &["--plot", svg.to_str().unwrap()]].concat());
-    check_svg(&svg, &["bias-hold (median", "last-static (median", "highpass (median", "white-noise floor", "motion segment", "angle error"]);
+    check_svg(
+        &svg,
+        &[
+            "bias-hold (median",
+            "last-static (median",
+            "highpass (median",
+            "white-noise floor",
+            "motion segment",
+            "angle error",
+        ],
+    );
     check_png(&args, dir.path(), (1100 + 330, 680));
 }
 
@@ -154,7 +187,10 @@ fn png_without_a_usable_font_is_a_clear_error() {
             .unwrap();
         assert!(!out.status.success());
         let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains("a.png") && err.contains(says) && err.contains("fonts-dejavu-core") && err.contains(".svg"), "{err}");
+        assert!(
+            err.contains("a.png") && err.contains(says) && err.contains("fonts-dejavu-core") && err.contains(".svg"),
+            "{err}"
+        );
     }
     assert!(!png.exists(), "no file left behind");
 }

@@ -10,10 +10,10 @@ mod common;
 use common::paper_group;
 use gyrocomp::model::cpso::chaos::chaotic_candidates;
 use gyrocomp::model::cpso::{CpsoConfig, CpsoError, minimize};
+use gyrocomp::model::embed::Embedding;
 use gyrocomp::model::lssvm::{CpsoLssvm, Fitness, LssvmConfig, Solver};
 use gyrocomp::model::rng::Rng;
 use gyrocomp::model::{Fit, predict_from};
-use gyrocomp::model::embed::Embedding;
 
 fn config(particles: usize, iterations: usize, seed: u64) -> CpsoConfig {
     CpsoConfig {

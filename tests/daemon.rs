@@ -11,11 +11,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
-use gyrocomp::sim::{Generator, Preset};
 use gyrocomp::ipc::{
     CompSample, CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, RawSample, STATUS_MOVING,
     StatusEvent, StatusSample, StatusSubscriber, prime,
 };
+use gyrocomp::sim::{Generator, Preset};
 
 const EVERY: u64 = 200;
 const DELAY: u64 = 20;

@@ -45,8 +45,7 @@ impl Drop for Setup {
 
 #[test]
 fn stalled_client_costs_give_up_per_answer_is_counted_and_cleaned_once_dead() {
-    let setup =
-        Setup { domain: IpcDomain::unique("backpressure").unwrap(), dir: tempfile::tempdir().unwrap() };
+    let setup = Setup { domain: IpcDomain::unique("backpressure").unwrap(), dir: tempfile::tempdir().unwrap() };
     let config = setup.dir.path().join("gyrocompd.toml");
     std::fs::write(
         &config,
@@ -62,9 +61,12 @@ fn stalled_client_costs_give_up_per_answer_is_counted_and_cleaned_once_dead() {
     .unwrap();
     let mut daemon = DaemonProc::start(&config, setup.dir.path().join("gyrocompd.log"));
     let delivery = Delivery::Lossless { give_up_after: Some(Duration::from_secs(5)) };
-    let node =
-        IpcNode::new(&setup.domain, "bp_ins", IpcSettings { delivery, subscriber_buffer: BUFFER, ..IpcSettings::default() })
-            .unwrap();
+    let node = IpcNode::new(
+        &setup.domain,
+        "bp_ins",
+        IpcSettings { delivery, subscriber_buffer: BUFFER, ..IpcSettings::default() },
+    )
+    .unwrap();
     let raw = node.raw_publisher().unwrap();
     let comp = node.comp_subscriber().unwrap();
     let status = node.status_subscriber().unwrap();

@@ -76,7 +76,8 @@ fn the_daemon_binary_answers_bit_for_bit_as_the_offline_pipeline() {
     assert!(raw.wait_for_subscriber(Duration::from_secs(30)), "the daemon subscribes to raw");
     let samples = stream();
     let _cleanup = Cleanup(&domain);
-    let mut answers: Vec<CompSample> = vec![prime(&raw, &comp, samples[0], Duration::from_secs(30)).expect("first answer")];
+    let mut answers: Vec<CompSample> =
+        vec![prime(&raw, &comp, samples[0], Duration::from_secs(30)).expect("first answer")];
     for chunk in samples[1..].chunks(32) {
         for s in chunk {
             raw.send(*s).unwrap();

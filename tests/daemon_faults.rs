@@ -20,8 +20,8 @@ mod ins_child;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use gyrocomp::daemon::state::SNAPSHOT_FILE;
 use daemon_proc::{DaemonProc, prime_until, sample};
+use gyrocomp::daemon::state::SNAPSHOT_FILE;
 use gyrocomp::ipc::{CompSubscriber, Delivery, IpcDomain, IpcNode, IpcSettings, RawPublisher, STATUS_NO_MODEL};
 use gyrocomp::stream::snapshot::Snapshot;
 use ins_child::ChildProc;
@@ -208,7 +208,13 @@ fn the_default_kalman_daemon_writes_snapshots_and_a_restart_after_kill_9_uses_on
     let mut p = gyrocomp::stream::Pipeline::new(config.pipeline().unwrap()).unwrap();
     stored.restore_into(&mut p).unwrap();
     let r = sample(a.seq);
-    let input = gyrocomp::stream::InputSample { seq: r.seq, t_ns: r.t_ns, rate_dps: r.rate_dps, temp_c: r.temp_c, flags: r.flags };
+    let input = gyrocomp::stream::InputSample {
+        seq: r.seq,
+        t_ns: r.t_ns,
+        rate_dps: r.rate_dps,
+        temp_c: r.temp_c,
+        flags: r.flags,
+    };
     let want = p.process(&input);
     // The restored state decides (here: the detector's verdict held from before the kill).
     let cold = gyrocomp::stream::Pipeline::new(config.pipeline().unwrap()).unwrap().process(&input);

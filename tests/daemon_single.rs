@@ -149,7 +149,10 @@ fn second_gyrocompd_is_refused_and_a_killed_one_does_not_block_a_restart() {
 }
 
 /// Runs a daemon on a thread until `signals` asks it to stop.
-fn spawn_daemon(config: Config, signals: &Signals) -> std::thread::JoinHandle<Result<gyrocomp::daemon::RunSummary, String>> {
+fn spawn_daemon(
+    config: Config,
+    signals: &Signals,
+) -> std::thread::JoinHandle<Result<gyrocomp::daemon::RunSummary, String>> {
     let signals = signals.clone();
     std::thread::spawn(move || Daemon::new(config, None, signals).run().map_err(|e| e.to_string()))
 }

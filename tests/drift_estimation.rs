@@ -48,7 +48,9 @@ fn the_default_estimator_beats_bias_hold_and_the_ungated_predictor_on_unseen_see
     let config = Config::default();
     let tactical = SimConfig::from_toml(include_str!("../configs/sim/tactical.toml")).unwrap();
     // (recording, seed, bound on gyrocomp's per-turn median as a multiple of bias-hold's)
-    for (sim, seed, per_turn_bound) in [(adis(10.0, 4000.0), 7, 1.0), (adis(100.0, 1500.0), 8, 1.5), (tactical, 9, 1.15)] {
+    for (sim, seed, per_turn_bound) in
+        [(adis(10.0, 4000.0), 7, 1.0), (adis(100.0, 1500.0), 8, 1.5), (tactical, 9, 1.15)]
+    {
         let (inputs, truth, moving, t_s) = recording(&sim, seed, MotionKind::Turns);
         let raw: Vec<f64> = inputs.iter().map(|s| s.rate_dps[0]).collect();
         let run = MotionRun::new(t_s, raw, truth, &moving).unwrap();
@@ -145,7 +147,13 @@ fn the_kalman_innovations_match_its_own_variances() {
         let k = p.estimator(axis).unwrap().kalman_counters().unwrap();
         let nis = k.mean_nis().unwrap();
         let n = p.noise(axis).unwrap();
-        eprintln!("axis {axis}: mean NIS {nis:.4} over {} commits, {} gated; m* {:?} R {:?}", k.nis_count, k.gated, n.optimal_block(), n.white_variance());
+        eprintln!(
+            "axis {axis}: mean NIS {nis:.4} over {} commits, {} gated; m* {:?} R {:?}",
+            k.nis_count,
+            k.gated,
+            n.optimal_block(),
+            n.white_variance()
+        );
         assert!(k.nis_count > 150_000, "{k:?}");
         // An R or Q off by 2× would give about 0.5 or 2.
         assert!((nis - 1.0).abs() < 0.1, "axis {axis}: mean NIS {nis}");
@@ -166,7 +174,11 @@ fn a_bias_learnt_from_a_rotation_at_power_on_is_relearnt() {
     let inputs: Vec<InputSample> = (0..out.t_s.len())
         .map(|k| {
             let turn = if out.t_s[k] - out.t_s[0] < 100.0 { 1.0 } else { 0.0 };
-            InputSample::new(k as u64, (out.t_s[k] * 1e9).round() as u64, [out.axes[0].raw[k] + turn, out.axes[1].raw[k], out.axes[2].raw[k]])
+            InputSample::new(
+                k as u64,
+                (out.t_s[k] * 1e9).round() as u64,
+                [out.axes[0].raw[k] + turn, out.axes[1].raw[k], out.axes[2].raw[k]],
+            )
         })
         .collect();
     let tail = inputs.len() - 3000;
@@ -179,7 +191,10 @@ fn a_bias_learnt_from_a_rotation_at_power_on_is_relearnt() {
     let errors: Vec<f64> = outputs[tail..].iter().map(|o| (o.drift_dps[0] - still_mean).abs()).collect();
     let mean_err = errors.iter().sum::<f64>() / errors.len() as f64;
     let worst = errors.iter().copied().fold(0.0, f64::max);
-    eprintln!("relearns {}, moving in the last 5 min {moving}, drift error mean {mean_err:.4} worst {worst:.4}", p.stats().detector.relearns);
+    eprintln!(
+        "relearns {}, moving in the last 5 min {moving}, drift error mean {mean_err:.4} worst {worst:.4}",
+        p.stats().detector.relearns
+    );
     assert_eq!(p.stats().detector.relearns, 1);
     assert!(moving < 150, "{moving} of 3000 samples moving in the last 5 min");
     assert!(mean_err < 0.015 && worst < 0.04, "drift off by {mean_err} on average, {worst} at worst");
@@ -240,7 +255,8 @@ fn the_hybrid_estimator_follows_a_periodic_bias_through_a_motion_where_the_track
     // the swing through the motion, while the Kalman tracker holds the bias of the motion's
     // start. (Where the bias wanders at random, as on the ADIS recordings, the forecast does not
     // help: docs/drift-estimation.md.)
-    let sim = SimConfig::from_toml("rate_hz = 10.0\nduration_s = 6000.0\n[axis]\nbias_dps = 0.0\narw_deg_rt_h = 2.4\n").unwrap();
+    let sim = SimConfig::from_toml("rate_hz = 10.0\nduration_s = 6000.0\n[axis]\nbias_dps = 0.0\narw_deg_rt_h = 2.4\n")
+        .unwrap();
     let out = Generator::generate(&sim, 31).unwrap();
     let bias = |t: f64| 0.05 * (2.0 * std::f64::consts::PI * t / 1200.0).sin();
     let motion = 5400.0..5700.0;
@@ -248,7 +264,11 @@ fn the_hybrid_estimator_follows_a_periodic_bias_through_a_motion_where_the_track
         .map(|k| {
             let t = out.t_s[k] - out.t_s[0];
             let turn = if motion.contains(&t) { 5.0 } else { 0.0 };
-            InputSample::new(k as u64, (out.t_s[k] * 1e9).round() as u64, [out.axes[0].raw[k] + bias(t) + turn, 0.0, 0.0])
+            InputSample::new(
+                k as u64,
+                (out.t_s[k] * 1e9).round() as u64,
+                [out.axes[0].raw[k] + bias(t) + turn, 0.0, 0.0],
+            )
         })
         .collect();
     let drift_error_over_motion = |estimator: &str| {
@@ -273,7 +293,9 @@ fn the_hybrid_estimator_follows_a_periodic_bias_through_a_motion_where_the_track
     };
     let (hybrid, version) = drift_error_over_motion("hybrid");
     let (kalman, _) = drift_error_over_motion("kalman");
-    eprintln!("mean drift error over the motion: hybrid {hybrid:.4}, kalman {kalman:.4} deg/s (model version {version})");
+    eprintln!(
+        "mean drift error over the motion: hybrid {hybrid:.4}, kalman {kalman:.4} deg/s (model version {version})"
+    );
     assert!(version >= 1, "a model of the block means was installed");
     assert!(hybrid < 0.5 * kalman, "hybrid {hybrid} vs kalman {kalman}");
 }

@@ -45,20 +45,28 @@ fn a_euroc_file_gives_the_same_allan_fit_and_compensation_as_the_same_samples_in
     let dir = tempfile::tempdir().unwrap();
     let (ours, euroc) = write_both(dir.path());
     for column in ["gx_dps", "gz_dps"] {
-        let a: Value = serde_json::from_slice(&ok(&["allan", &ours, "--column", column, "--format", "json"]).stdout).unwrap();
-        let b: Value = serde_json::from_slice(&ok(&["allan", &euroc, "--column", column, "--format", "json"]).stdout).unwrap();
+        let a: Value =
+            serde_json::from_slice(&ok(&["allan", &ours, "--column", column, "--format", "json"]).stdout).unwrap();
+        let b: Value =
+            serde_json::from_slice(&ok(&["allan", &euroc, "--column", column, "--format", "json"]).stdout).unwrap();
         assert_eq!(a["adev"], b["adev"], "{column}: the same values in both files");
         assert_eq!(a["fit"], b["fit"], "{column}");
         assert_eq!(a["rate_hz"], b["rate_hz"]);
     }
     // By the EuRoC name too.
-    let c: Value = serde_json::from_slice(&ok(&["allan", &euroc, "--column", "w_RS_S_z", "--format", "json"]).stdout).unwrap();
-    let a: Value = serde_json::from_slice(&ok(&["allan", &ours, "--column", "gz_dps", "--format", "json"]).stdout).unwrap();
+    let c: Value =
+        serde_json::from_slice(&ok(&["allan", &euroc, "--column", "w_RS_S_z", "--format", "json"]).stdout).unwrap();
+    let a: Value =
+        serde_json::from_slice(&ok(&["allan", &ours, "--column", "gz_dps", "--format", "json"]).stdout).unwrap();
     assert_eq!(a["adev"], c["adev"]);
     let (oa, ob) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
     ok(&["compensate", &ours, "--column", "gx_dps,gy_dps,gz_dps", "-o", oa.to_str().unwrap()]);
     ok(&["compensate", &euroc, "--column", "gx_dps,gy_dps,gz_dps", "-o", ob.to_str().unwrap()]);
-    assert_eq!(std::fs::read_to_string(&oa).unwrap(), std::fs::read_to_string(&ob).unwrap(), "compensate: byte-identical");
+    assert_eq!(
+        std::fs::read_to_string(&oa).unwrap(),
+        std::fs::read_to_string(&ob).unwrap(),
+        "compensate: byte-identical"
+    );
 }
 
 #[test]

@@ -10,8 +10,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use gyrocomp::ipc::IpcDomain;
 use gyrocomp::ipc::domain::global_config_candidates;
-use tracing_subscriber::layer::{Context, SubscriberExt};
 use tracing_subscriber::Layer;
+use tracing_subscriber::layer::{Context, SubscriberExt};
 
 /// Counts events at WARN or above.
 struct CountWarnings(Arc<AtomicUsize>);

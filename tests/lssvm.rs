@@ -10,11 +10,11 @@ mod common;
 use std::time::Instant;
 
 use common::{floats, golden, paper_group};
+use gyrocomp::model::embed::Embedding;
 use gyrocomp::model::lssvm::{
     LssvmConfig, NystromConfig, NystromProblem, PrototypeSelection, select_prototypes, solve_exact,
 };
 use gyrocomp::model::{Fit, predict_from};
-use gyrocomp::model::embed::Embedding;
 
 const TOL: f64 = 1e-8;
 

@@ -128,10 +128,12 @@ fn the_cdr_decoder_reads_the_python_serializers_bytes() {
     let golden: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let messages = golden["messages"].as_array().unwrap();
     assert!(messages.iter().any(|m| m["byte_order"] == "be") && messages.iter().any(|m| m["byte_order"] == "le"));
-    let bits = |v: &Value| -> Vec<u64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap().to_bits()).collect() };
+    let bits =
+        |v: &Value| -> Vec<u64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap().to_bits()).collect() };
     for m in messages {
         let hex = m["hex"].as_str().unwrap();
-        let data: Vec<u8> = (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap()).collect();
+        let data: Vec<u8> =
+            (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap()).collect();
         let what = format!("{} {}", m["byte_order"], m["frame_id"]);
         let msg = decode_imu(&data).unwrap_or_else(|e| panic!("{what}: {e}"));
         assert_eq!(i64::from(msg.stamp_sec), m["sec"].as_i64().unwrap(), "{what}");

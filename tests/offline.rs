@@ -7,9 +7,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use gyrocomp::config::Config;
+use gyrocomp::drive::{compensate_recording, run_pipeline};
 use gyrocomp::io::{CompensatedCsvWriter, ReadOptions, Recording, RecordingError, read_table};
 use gyrocomp::sim::{Generator, Preset};
-use gyrocomp::drive::{compensate_recording, run_pipeline};
 use gyrocomp::stream::{FLAG_MOVING, OutputSample, Pipeline, RetrainMode, STATUS_NO_MODEL, STATUS_REJECTED, Trainer};
 
 fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {

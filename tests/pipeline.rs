@@ -104,7 +104,10 @@ fn outputs_never_depend_on_future_samples() {
         let changed = run(&mut default(), &other);
         assert_eq!(base[..change], changed[..change], "default path, change at {change}");
         assert_eq!(base[change].status, changed[change].status);
-        assert_eq!(base[change].drift_dps, changed[change].drift_dps, "default path: drift at {change} used x[{change}]");
+        assert_eq!(
+            base[change].drift_dps, changed[change].drift_dps,
+            "default path: drift at {change} used x[{change}]"
+        );
     }
 }
 

@@ -11,12 +11,12 @@ use super::CliError;
 use super::input::load_series;
 use super::plot::allan::AllanFigure;
 use super::plot::{file_name, save};
-use crate::io::detect_format;
 use crate::diag::allan::{AllanDeviation, Taus, oadev_with_max_m};
-use crate::diag::kalibr::KalibrGyro;
 use crate::diag::fit_intervals::{DEFAULT_DRAWS, FitIntervals, fit_intervals};
+use crate::diag::kalibr::KalibrGyro;
 use crate::diag::noise_fit::{NoiseFit, Weighting, fit_allan};
 use crate::diag::noise_model::{CustomaryNoise, NoiseModel};
+use crate::io::detect_format;
 
 /// Confidence level of the fitted terms' intervals (`fit_ci` of the JSON, the text table).
 const CI_LEVEL: f64 = 0.95;
@@ -183,7 +183,11 @@ pub fn run(args: &AllanArgs) -> Result<(), CliError> {
         AllanFormat::Text => write_table(&mut out, args, &allan, fit.as_ref(), ci.as_ref())?,
         AllanFormat::Kalibr => {
             let fit = fit.ok_or_else(|| {
-                format!("{}: column `{}`: no noise-term fit, so no Kalibr parameters", args.input.display(), args.column)
+                format!(
+                    "{}: column `{}`: no noise-term fit, so no Kalibr parameters",
+                    args.input.display(),
+                    args.column
+                )
             })?;
             let source = format!("{} column {}", args.input.display(), args.column);
             let topic = args.input_opts.topic.as_deref().or(series.topic.as_deref());
@@ -319,10 +323,34 @@ fn write_table(
         })
     };
     writeln!(out, "  Q  quantisation      {:>12.4e} deg{}", m.q, range(|c| c.q))?;
-    writeln!(out, "  N  angle random walk {:>12.4e} deg/√s      = {:>12.4e} deg/√h{}", m.n, c.n_deg_per_sqrt_h, range(|c| c.n))?;
-    writeln!(out, "  B  bias instability  {:>12.4e} deg/s       = {:>12.4e} deg/h{}", m.b, c.b_deg_per_h, range(|c| c.b))?;
-    writeln!(out, "  K  rate random walk  {:>12.4e} deg/s/√s    = {:>12.4e} deg/h/√h{}", m.k, c.k_deg_per_h_sqrt_h, range(|c| c.k))?;
-    writeln!(out, "  R  rate ramp         {:>12.4e} deg/s²      = {:>12.4e} deg/h²{}", m.r, c.r_deg_per_h2, range(|c| c.r))?;
+    writeln!(
+        out,
+        "  N  angle random walk {:>12.4e} deg/√s      = {:>12.4e} deg/√h{}",
+        m.n,
+        c.n_deg_per_sqrt_h,
+        range(|c| c.n)
+    )?;
+    writeln!(
+        out,
+        "  B  bias instability  {:>12.4e} deg/s       = {:>12.4e} deg/h{}",
+        m.b,
+        c.b_deg_per_h,
+        range(|c| c.b)
+    )?;
+    writeln!(
+        out,
+        "  K  rate random walk  {:>12.4e} deg/s/√s    = {:>12.4e} deg/h/√h{}",
+        m.k,
+        c.k_deg_per_h_sqrt_h,
+        range(|c| c.k)
+    )?;
+    writeln!(
+        out,
+        "  R  rate ramp         {:>12.4e} deg/s²      = {:>12.4e} deg/h²{}",
+        m.r,
+        c.r_deg_per_h2,
+        range(|c| c.r)
+    )?;
     if let Some(ci) = ci {
         writeln!(
             out,

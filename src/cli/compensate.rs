@@ -10,14 +10,14 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::CliError;
-use crate::config::Config;
 use super::plot::compensate::{AxisTrace, CompensateFigure};
 use super::plot::{PlotFormat, file_name, save};
 use super::progress::Progress;
-use crate::io::{CompensatedCsvWriter, Recording};
+use crate::config::Config;
 use crate::config::RateSetting;
-use crate::model::metrics::sample_std_dev;
 use crate::drive::compensate_recording;
+use crate::io::{CompensatedCsvWriter, Recording};
+use crate::model::metrics::sample_std_dev;
 use crate::stream::{STATUS_MOVING, STATUS_REJECTED};
 
 /// Arguments of `gyrocomp compensate`.
@@ -102,7 +102,8 @@ pub fn run(args: &CompensateArgs) -> Result<(), CliError> {
     let mut static_comp = vec![Vec::new(); axes];
     let mut failed = None;
     let plotting = args.plot.is_some();
-    let mut traces: Vec<AxisTrace> = rec.columns().iter().map(|c| AxisTrace { column: c.clone(), ..AxisTrace::default() }).collect();
+    let mut traces: Vec<AxisTrace> =
+        rec.columns().iter().map(|c| AxisTrace { column: c.clone(), ..AxisTrace::default() }).collect();
     let (mut moving, mut rejected) = (Vec::new(), Vec::new());
     let mut progress = Progress::new("compensate", rec.len() as u64);
     let started = Instant::now();

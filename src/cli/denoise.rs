@@ -9,8 +9,8 @@ use serde::Serialize;
 use tracing::info;
 
 use super::CliError;
-use crate::config::Config;
 use super::input::load_series;
+use crate::config::Config;
 use crate::io::CsvColumnsWriter;
 use crate::model::metrics;
 use crate::stream::{CausalConfig, denoise_causal};

@@ -13,15 +13,15 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::CliError;
-use crate::config::Config;
 use super::eval_args::{EvalArgs, parse_models};
 use super::plot::motion::{ModelErrors, MotionFigure};
 use super::plot::{PlotFormat, file_name, save};
 use super::progress::Progress;
+use crate::config::Config;
 use crate::eval::motion::MotionScores;
-use crate::model::metrics::quantile;
 use crate::eval::{BaselineSettings, MotionModel, MotionRun, run_motion_model};
 use crate::io::{ReadOptions, Recording, read_columns};
+use crate::model::metrics::quantile;
 
 /// Column of the injected truth written by `gyrocomp motion`.
 pub const TRUTH_COLUMN: &str = "truth_dps";

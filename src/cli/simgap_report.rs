@@ -7,9 +7,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::CliError;
-use super::simgap_args::SimgapArgs;
 use super::plot::simgap::{Band, BandFigure, RankingFigure, RankingRow};
 use super::plot::to_svg;
+use super::simgap_args::SimgapArgs;
 use super::simgap_json::where_entries;
 use crate::diag::simgap::Diagnosis;
 use crate::diag::simgap::gap::PartComparison;
@@ -63,7 +63,11 @@ fn ranking_plot(d: &Diagnosis) -> Result<String, CliError> {
         .effects
         .iter()
         .filter_map(|e| {
-            e.evaluation.as_ref().map(|ev| RankingRow { name: e.kind.name().to_owned(), train: ev.train.score.gap, hold: ev.hold.score.gap })
+            e.evaluation.as_ref().map(|ev| RankingRow {
+                name: e.kind.name().to_owned(),
+                train: ev.train.score.gap,
+                hold: ev.hold.score.gap,
+            })
         })
         .collect();
     let figure = RankingFigure { rows: &rows, baseline: (d.before.train.score.gap, d.before.hold.score.gap) };
@@ -121,7 +125,13 @@ pub fn write_report(dir: &Path, args: &SimgapArgs, d: &Diagnosis) -> Result<Path
             &after_label,
         )?);
         let psd = series(info, before, after, "psd");
-        html.push_str(&band_plot(&format!("PSD bands, {part}"), &psd, ("f (Hz)", "PSD ((deg/s)²/Hz)"), true, &after_label)?);
+        html.push_str(&band_plot(
+            &format!("PSD bands, {part}"),
+            &psd,
+            ("f (Hz)", "PSD ((deg/s)²/Hz)"),
+            true,
+            &after_label,
+        )?);
         let traj = series(info, before, after, "bias_trajectory");
         html.push_str(&band_plot(
             &format!("Bias trajectory, {part}"),

@@ -164,7 +164,8 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
     writeln!(out, "Verdict: {}{how_far}", d.verdict.text())?;
     if d.verdict == Verdict::PartlyExplained {
         let residual = where_entries(d.layout_hold.info(), &d.after.hold);
-        let residual = if residual.is_empty() { where_entries(d.layout_train.info(), &d.after.train) } else { residual };
+        let residual =
+            if residual.is_empty() { where_entries(d.layout_train.info(), &d.after.train) } else { residual };
         writeln!(out, "Residual (after the chosen effects; outside the band, largest first):")?;
         for e in residual.iter().take(5) {
             writeln!(out, "  {:<16} {:<44} z {:>8.2}", e.statistic, e.band, e.z)?;

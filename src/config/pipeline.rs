@@ -12,8 +12,8 @@ use crate::model::cpso::{CpsoConfig, CpsoError};
 use crate::model::embed::Embedding;
 use crate::model::lssvm::CpsoLssvm;
 use crate::stream::{
-    CausalConfig, DetectorKind, DriftConfig, InputConfig, MotionConfig, PipelineConfig, RetrainMode,
-    RetrainSchedule, StatisticalConfig,
+    CausalConfig, DetectorKind, DriftConfig, InputConfig, MotionConfig, PipelineConfig, RetrainMode, RetrainSchedule,
+    StatisticalConfig,
 };
 use crate::wavelet::{DenoiseConfig, Wavelet};
 
@@ -59,7 +59,11 @@ pub struct MotionSection {
 
 impl Default for MotionSection {
     fn default() -> Self {
-        Self { detector: DetectorKind::Statistical, statistical: StatisticalConfig::default(), threshold: MotionConfig::default() }
+        Self {
+            detector: DetectorKind::Statistical,
+            statistical: StatisticalConfig::default(),
+            threshold: MotionConfig::default(),
+        }
     }
 }
 
@@ -96,7 +100,9 @@ impl<'de> Deserialize<'de> for RateSetting {
         match Raw::deserialize(d)? {
             Raw::Number(hz) => Ok(Self::Hz(hz)),
             Raw::Word(w) if w == "auto" => Ok(Self::Auto),
-            Raw::Word(w) => Err(serde::de::Error::custom(format!("input.rate_hz: {w:?} is neither a number nor \"auto\""))),
+            Raw::Word(w) => {
+                Err(serde::de::Error::custom(format!("input.rate_hz: {w:?} is neither a number nor \"auto\"")))
+            }
         }
     }
 }

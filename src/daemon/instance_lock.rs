@@ -58,8 +58,14 @@ impl InstanceLock {
         let path = dir.join(LOCK_FILE);
         let io = |source| LockError::Io { path: path.clone(), source };
         // Not truncated on open: the holder's record must survive a refused successor.
-        let mut file =
-            OpenOptions::new().read(true).write(true).create(true).truncate(false).mode(LOCK_MODE).open(&path).map_err(io)?;
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .mode(LOCK_MODE)
+            .open(&path)
+            .map_err(io)?;
         match file.try_lock() {
             Ok(()) => {}
             Err(TryLockError::WouldBlock) => {

@@ -74,7 +74,9 @@ pub(super) fn start(config: &Config) -> Result<Started, DaemonError> {
     // The compensated publisher first: a second daemon is refused before it subscribes to
     // (and takes samples from) the running one's raw stream.
     let comp = node.comp_publisher().map_err(|e| match e {
-        IpcError::PublisherTaken { .. } => DaemonError::AlreadyRunning { prefix: prefix.clone(), detail: e.to_string() },
+        IpcError::PublisherTaken { .. } => {
+            DaemonError::AlreadyRunning { prefix: prefix.clone(), detail: e.to_string() }
+        }
         e => e.into(),
     })?;
     let raw = node.raw_subscriber()?;
@@ -139,7 +141,9 @@ fn lock_state_dir(dir: &Path, prefix: &str) -> Result<InstanceLock, DaemonError>
             tracing::debug!(file = %lock.path().display(), "state directory locked");
             Ok(lock)
         }
-        Err(e @ LockError::Held { .. }) => Err(DaemonError::AlreadyRunning { prefix: prefix.into(), detail: e.to_string() }),
+        Err(e @ LockError::Held { .. }) => {
+            Err(DaemonError::AlreadyRunning { prefix: prefix.into(), detail: e.to_string() })
+        }
         Err(LockError::Io { path, source }) => Err(DaemonError::State { path, source }),
     }
 }

@@ -57,7 +57,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let tmp = dir.join(TEMP_FILE);
-    let mut file = std::fs::OpenOptions::new().write(true).create(true).truncate(true).mode(SNAPSHOT_MODE).open(&tmp)?;
+    let mut file =
+        std::fs::OpenOptions::new().write(true).create(true).truncate(true).mode(SNAPSHOT_MODE).open(&tmp)?;
     // A temporary file left by an earlier build may have wider permissions: `mode` applies to
     // new files only.
     file.set_permissions(std::fs::Permissions::from_mode(SNAPSHOT_MODE))?;

@@ -128,7 +128,12 @@ impl Worker {
         let Some(writer) = &mut self.snapshots else { return };
         let p = &self.pipeline;
         let models = [0, 1, 2].map(|axis| p.model_slot(axis).and_then(|slot| (*slot.load()).clone()));
-        writer.offer(SnapshotJob { compat: self.compat.clone(), models, warm: p.warm_state(), stream: p.stream_state() });
+        writer.offer(SnapshotJob {
+            compat: self.compat.clone(),
+            models,
+            warm: p.warm_state(),
+            stream: p.stream_state(),
+        });
         self.last_snapshot = Instant::now();
     }
 

@@ -123,7 +123,8 @@ pub fn fit_intervals(
 /// The simulator configuration of the fitted model (all terms but Q) for recordings like `allan`'s.
 fn replicate_config(model: &NoiseModel, allan: &AllanDeviation) -> Result<SimConfig, ConfigError> {
     let positive = |v: f64| (v > 0.0).then_some(v);
-    let (tau_first, tau_last) = (allan.tau_s.first().copied().unwrap_or(1.0), allan.tau_s.last().copied().unwrap_or(1.0));
+    let (tau_first, tau_last) =
+        (allan.tau_s.first().copied().unwrap_or(1.0), allan.tau_s.last().copied().unwrap_or(1.0));
     let axis = AxisConfig {
         arw_deg_rt_h: positive(model.n * 60.0),
         bias_instability: positive(model.b * 3600.0).map(|b_deg_h| BiasInstability::Flicker {
@@ -166,7 +167,9 @@ fn replicate(
                 prev = next;
             }
         }
-        let Ok(dev) = oadev_with_max_m(&rate, allan.rate_hz, &Taus::Factors(allan.m.clone()), usize::MAX) else { continue };
+        let Ok(dev) = oadev_with_max_m(&rate, allan.rate_hz, &Taus::Factors(allan.m.clone()), usize::MAX) else {
+            continue;
+        };
         if let Ok(f) = fit_allan(&dev, weighting) {
             models.push((3 * run + axis, f.model));
         }
@@ -193,7 +196,9 @@ mod tests {
     fn intervals_hold_the_fit_and_are_reproducible() {
         // White noise + rate random walk, 2^14 samples at 100 Hz.
         let model = NoiseModel { n: 0.01, k: 2e-3, ..NoiseModel::default() };
-        let config = replicate_config(&model, &AllanDeviation::from_points(100.0, 1 << 14, [(1, 0.1, 1 << 14)]).unwrap()).unwrap();
+        let config =
+            replicate_config(&model, &AllanDeviation::from_points(100.0, 1 << 14, [(1, 0.1, 1 << 14)]).unwrap())
+                .unwrap();
         let rate = Generator::generate(&config, 3).unwrap().axes[0].raw.clone();
         let allan = oadev_with_max_m(&rate, 100.0, &Taus::Octave, usize::MAX).unwrap();
         let fit = fit_allan(&allan, Weighting::IndependentTerms).unwrap();

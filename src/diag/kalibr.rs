@@ -143,7 +143,11 @@ mod tests {
         for (rate, printed) in [(99.99999999999997, "100"), (estimated, "100"), (199.608, "199.608"), (0.5, "0.5")] {
             a.rate_hz = rate;
             let k = KalibrGyro::from_fit(&NoiseModel { n: 0.01, k: 0.001, ..NoiseModel::default() }, &a);
-            assert!(k.to_yaml("x", None).contains(&format!("\nupdate_rate: {printed}\n")), "{rate}: {}", k.to_yaml("x", None));
+            assert!(
+                k.to_yaml("x", None).contains(&format!("\nupdate_rate: {printed}\n")),
+                "{rate}: {}",
+                k.to_yaml("x", None)
+            );
         }
         assert_eq!(round_significant(99.99999999999997, 6), 100.0);
         assert_eq!(round_significant(123_456_789.0, 6), 123_457_000.0);

@@ -2,9 +2,9 @@
 //! (docs/design.md "One pipeline, three drivers"): `gyrocompd`, `gyrocomp compensate` and, through
 //! the daemon, `replay`.
 
+use crate::config::{Config, ConfigError};
 use crate::stream::pipeline::{Pipeline, PipelineError};
 use crate::stream::retrain::Trainer;
-use crate::config::{Config, ConfigError};
 
 /// Why a pipeline could not be built from a configuration.
 #[derive(Debug, thiserror::Error)]

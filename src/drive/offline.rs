@@ -11,11 +11,11 @@
 //! a replay through a daemon configured the same way — identical, bit for bit.
 
 use super::build::{BuildError, build_pipeline};
+use crate::config::Config;
+use crate::io::Recording;
 use crate::stream::pipeline::{Pipeline, PipelineStats};
 use crate::stream::retrain::RetrainMode;
 use crate::stream::sample::{InputSample, OutputSample};
-use crate::config::Config;
-use crate::io::Recording;
 
 /// What an offline run did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -11,9 +11,9 @@ use serde::Serialize;
 use super::paper::Prepared;
 use crate::model::baselines::{Ar, BiasHold, LinearPsr, Mean, Persistence};
 use crate::model::bp_ann::BpAnn;
+use crate::model::embed::Embedding;
 use crate::model::lssvm::{CpsoLssvm, LssvmConfig};
 use crate::model::{Fit, FitError, Predict, predict_from};
-use crate::model::embed::Embedding;
 
 /// A model an evaluation can run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

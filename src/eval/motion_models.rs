@@ -38,9 +38,9 @@ use serde::Serialize;
 use super::models::find_by_name;
 use super::motion::{MotionError, MotionRun};
 use crate::config::Config;
+use crate::drive::{BuildError, build_pipeline, offline_config, run_pipeline};
 use crate::model::baselines::{Ar, PersistenceModel};
 use crate::model::scaler::MinMaxScaler;
-use crate::drive::{BuildError, build_pipeline, offline_config, run_pipeline};
 use crate::stream::{DetectorKind, EstimatorKind, FLAG_MOVING, InputSample, Pipeline, Trainer};
 
 /// A model of the motion-injected protocol (module documentation).
@@ -171,8 +171,7 @@ fn pipeline(model: MotionModel, config: &Config) -> Result<Pipeline, BuildError>
         MotionModel::Gyrocomp | MotionModel::GyrocompFlagged => return build_pipeline(config),
         MotionModel::CpsoLssvm | MotionModel::Hybrid => {
             let mut c = config.clone();
-            c.drift.kind =
-                if model == MotionModel::Hybrid { EstimatorKind::Hybrid } else { EstimatorKind::CpsoLssvm };
+            c.drift.kind = if model == MotionModel::Hybrid { EstimatorKind::Hybrid } else { EstimatorKind::CpsoLssvm };
             return build_pipeline(&c);
         }
         _ => Pipeline::new(settings)?,

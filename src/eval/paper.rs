@@ -10,9 +10,9 @@ use std::fmt;
 
 use serde::Serialize;
 
+use crate::model::embed::Embedding;
 use crate::model::metrics::{Metrics, sample_std_dev};
 use crate::model::scaler::MinMaxScaler;
-use crate::model::embed::Embedding;
 use crate::wavelet::{DenoiseConfig, denoise_batch};
 
 /// Settings of the paper protocol.

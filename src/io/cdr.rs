@@ -111,11 +111,11 @@ impl<'a> CdrReader<'a> {
         let misalign = (self.pos - ENCAPSULATION_LEN) % N;
         let start = if misalign == 0 { self.pos } else { self.pos + N - misalign };
         let left = self.data.len().saturating_sub(start);
-        let bytes: [u8; N] = self
-            .data
-            .get(start..start + N)
-            .and_then(|b| b.try_into().ok())
-            .ok_or(CdrError { field, offset: start.min(self.data.len()), kind: CdrErrorKind::Truncated { needed: N, left } })?;
+        let bytes: [u8; N] = self.data.get(start..start + N).and_then(|b| b.try_into().ok()).ok_or(CdrError {
+            field,
+            offset: start.min(self.data.len()),
+            kind: CdrErrorKind::Truncated { needed: N, left },
+        })?;
         self.pos = start + N;
         Ok(bytes)
     }

@@ -65,7 +65,8 @@ impl Dialect {
             Self::Euroc => {
                 let euroc = GYRO.iter().position(|&g| g == wanted).map_or(wanted, |axis| EUROC_GYRO[axis]);
                 let is_gyro = EUROC_GYRO.contains(&euroc);
-                let index = names.iter().position(|n| n == euroc || n.split_whitespace().next() == Some(euroc)).or(exact)?;
+                let index =
+                    names.iter().position(|n| n == euroc || n.split_whitespace().next() == Some(euroc)).or(exact)?;
                 Some(Resolved { index, scale: if is_gyro { DEG_PER_RAD } else { 1.0 } })
             }
         }

@@ -107,7 +107,12 @@ pub struct BagErrorData {
 impl BagError {
     /// An error about `path` (and `topic`, when known).
     pub fn new(path: &Path, topic: Option<&str>, kind: BagErrorKind) -> Self {
-        Self(Box::new(BagErrorData { path: path.to_path_buf(), topic: topic.map(str::to_owned), topics: Vec::new(), kind }))
+        Self(Box::new(BagErrorData {
+            path: path.to_path_buf(),
+            topic: topic.map(str::to_owned),
+            topics: Vec::new(),
+            kind,
+        }))
     }
 
     /// The same error listing the file's `topics` (with their types).
@@ -137,7 +142,9 @@ impl fmt::Display for BagError {
             )?,
             BagErrorKind::Format(e) => write!(f, ": not a readable MCAP file (truncated or corrupt?): {e}")?,
             BagErrorKind::NoImuTopic => write!(f, ": no sensor_msgs/msg/Imu topic")?,
-            BagErrorKind::SeveralImuTopics => write!(f, ": several sensor_msgs/msg/Imu topics: choose one with --topic")?,
+            BagErrorKind::SeveralImuTopics => {
+                write!(f, ": several sensor_msgs/msg/Imu topics: choose one with --topic")?
+            }
             BagErrorKind::TopicNotFound(t) => write!(f, ": topic `{t}` not found")?,
             BagErrorKind::Unsupported(msg) => write!(f, ": topic `{topic}`: {msg}")?,
             BagErrorKind::MissingColumn { wanted } => write!(
@@ -310,10 +317,9 @@ impl McapSampleReader {
         if chosen && !self.ids.contains(&channel.id) {
             self.topic = Some(info.topic.clone());
             if !is_imu {
-                return Err(self.error(BagErrorKind::Unsupported(format!(
-                    "its type is {}, not {IMU_SCHEMA}",
-                    info.schema
-                ))));
+                return Err(
+                    self.error(BagErrorKind::Unsupported(format!("its type is {}, not {IMU_SCHEMA}", info.schema)))
+                );
             }
             if info.encoding != CDR {
                 return Err(self.error(BagErrorKind::Unsupported(format!(
@@ -341,7 +347,8 @@ impl McapSampleReader {
                             }
                             Ok(Record::Channel(c)) => {
                                 let schema = self.schemas.get(&c.schema_id).cloned().unwrap_or_default();
-                                self.channels.insert(c.id, ChannelInfo { topic: c.topic, schema, encoding: c.message_encoding });
+                                self.channels
+                                    .insert(c.id, ChannelInfo { topic: c.topic, schema, encoding: c.message_encoding });
                             }
                             Ok(Record::DataEnd(_)) => self.past_data_end = true,
                             _ => {}
@@ -416,7 +423,12 @@ impl McapSampleReader {
         decoded: Result<(Option<u64>, i32, u32, [f64; 3]), CdrError>,
     ) -> Result<McapSample<'_>, BagError> {
         let number = self.number;
-        let fail = |field: &str, detail: String| BagErrorKind::Message { number, log_time: Some(log_time), field: field.to_owned(), detail };
+        let fail = |field: &str, detail: String| BagErrorKind::Message {
+            number,
+            log_time: Some(log_time),
+            field: field.to_owned(),
+            detail,
+        };
         let (t_ns, sec, nanosec, w) = match decoded {
             Ok(d) => d,
             Err(e) => return Err(self.error(fail(e.field, format!("{} (byte {} of the message)", e.kind, e.offset)))),

@@ -19,4 +19,6 @@ pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table
 pub use csv_write::{CsvColumnsWriter, create_output};
 pub use recording::{Recording, RecordingError, t_ns_from_s};
 pub use sim_csv::write_sim_csv;
-pub use source::{InputError, InputOptions, RateUnit, Request, Sample, SampleSource, detect_format, open_samples, read_columns};
+pub use source::{
+    InputError, InputOptions, RateUnit, Request, Sample, SampleSource, detect_format, open_samples, read_columns,
+};

@@ -56,8 +56,7 @@ pub fn decode_imu(data: &[u8]) -> Result<ImuMessage<'_>, CdrError> {
     let frame_id = r.string("header.frame_id")?;
     let orientation = r.f64_array::<4>("orientation")?;
     r.f64_array::<9>("orientation_covariance")?;
-    let angular_velocity =
-        [r.f64("angular_velocity.x")?, r.f64("angular_velocity.y")?, r.f64("angular_velocity.z")?];
+    let angular_velocity = [r.f64("angular_velocity.x")?, r.f64("angular_velocity.y")?, r.f64("angular_velocity.z")?];
     r.f64_array::<9>("angular_velocity_covariance")?;
     let linear_acceleration = r.f64_array::<3>("linear_acceleration")?;
     r.f64_array::<9>("linear_acceleration_covariance")?;

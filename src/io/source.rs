@@ -152,14 +152,21 @@ pub static FORMATS: &[&dyn InputFormat] = &[&McapFormat, &CsvFormat];
 pub fn detect_format(path: &Path) -> Result<&'static dyn InputFormat, InputError> {
     let mut head = [0u8; 16];
     let mut len = 0;
-    let mut file = File::open(path).map_err(|e| CsvError { path: path.to_path_buf(), line: None, field: None, kind: CsvErrorKind::Io(e) })?;
+    let mut file = File::open(path).map_err(|e| CsvError {
+        path: path.to_path_buf(),
+        line: None,
+        field: None,
+        kind: CsvErrorKind::Io(e),
+    })?;
     while len < head.len() {
         match file.read(&mut head[len..]) {
             Ok(0) => break,
             Ok(n) => len += n,
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
             Err(e) => {
-                return Err(CsvError { path: path.to_path_buf(), line: None, field: None, kind: CsvErrorKind::Io(e) }.into());
+                return Err(
+                    CsvError { path: path.to_path_buf(), line: None, field: None, kind: CsvErrorKind::Io(e) }.into()
+                );
             }
         }
     }
@@ -255,7 +262,8 @@ impl<R: Read> SampleSource for SampleReader<R> {
 
     fn invalid(&self, record: u64, field: &str, message: String) -> InputError {
         let path = SampleReader::path(self).to_path_buf();
-        CsvError { path, line: Some(record), field: Some(field.to_owned()), kind: CsvErrorKind::Invalid(message) }.into()
+        CsvError { path, line: Some(record), field: Some(field.to_owned()), kind: CsvErrorKind::Invalid(message) }
+            .into()
     }
 
     fn no_data(&self) -> InputError {

@@ -53,7 +53,9 @@ impl IpcDomain {
                     tracing::info!(path = %path.display(), "iceoryx2 configuration");
                     return domain;
                 }
-                Err(error) => tracing::warn!(path = %path.display(), %error, "iceoryx2 config file not usable; trying the next"),
+                Err(error) => {
+                    tracing::warn!(path = %path.display(), %error, "iceoryx2 config file not usable; trying the next")
+                }
             }
         }
         tracing::info!("no iceoryx2 config file found: iceoryx2's built-in defaults");

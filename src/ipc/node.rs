@@ -139,7 +139,9 @@ impl IpcNode {
     /// room for more publishers is held to one all the same: a publisher that finds another one
     /// beside it is dropped again with the same error.
     fn stream_sender<T: std::fmt::Debug + ZeroCopySend + Copy + 'static>(&self, name: &str) -> IpcResult<Sender<T>> {
-        let open = || Sender::new(open_pair::<T>(&self.node, name, self.stream())?, self.settings.delivery, self.settings.notify);
+        let open = || {
+            Sender::new(open_pair::<T>(&self.node, name, self.stream())?, self.settings.delivery, self.settings.notify)
+        };
         let mut sender = open();
         if matches!(sender, Err(IpcError::PublisherTaken { .. })) && self.cleanup_dead_nodes().0 > 0 {
             sender = open();

@@ -60,13 +60,11 @@ pub(crate) fn open_pair<T: Debug + ZeroCopySend + 'static>(
     let sname = service_name(name)?;
     let builder = node.service_builder(&sname).publish_subscribe::<T>();
     let builder = match qos {
-        Qos::Stream { buffer } => {
-            builder
-                .enable_safe_overflow(false)
-                .subscriber_max_buffer_size(buffer.max(1))
-                .history_size(0)
-                .max_publishers(super::holders::STREAM_MAX_PUBLISHERS)
-        }
+        Qos::Stream { buffer } => builder
+            .enable_safe_overflow(false)
+            .subscriber_max_buffer_size(buffer.max(1))
+            .history_size(0)
+            .max_publishers(super::holders::STREAM_MAX_PUBLISHERS),
         Qos::Reports => builder.enable_safe_overflow(true).subscriber_max_buffer_size(STATUS_BUFFER).history_size(1),
     };
     let data =

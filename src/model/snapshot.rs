@@ -105,8 +105,8 @@ impl ModelState {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Predict;
     use crate::model::Fit;
+    use crate::model::Predict;
     use crate::model::cpso::CpsoConfig;
     use crate::model::lssvm::CpsoLssvm;
 

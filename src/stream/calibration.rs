@@ -534,6 +534,9 @@ mod tests {
         }
         let (avar, _) = c.level(8).unwrap();
         let white = 0.02 * 0.02 / 256.0;
-        assert!(avar < 1.5 * white && avar > 0.6 * white, "level 8 winsorised: σ² {avar:.3e} against white {white:.3e}");
+        assert!(
+            avar < 1.5 * white && avar > 0.6 * white,
+            "level 8 winsorised: σ² {avar:.3e} against white {white:.3e}"
+        );
     }
 }

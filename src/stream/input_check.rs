@@ -257,7 +257,8 @@ impl InputCheck {
 
     /// Restores what [`InputCheck::state`] copied (thresholds and counters are kept).
     pub fn restore(&mut self, state: &InputState) {
-        (self.last_seq, self.last_t_ns, self.spikes, self.runs) = (state.last_seq, state.last_t_ns, state.spikes, state.runs);
+        (self.last_seq, self.last_t_ns, self.spikes, self.runs) =
+            (state.last_seq, state.last_t_ns, state.spikes, state.runs);
     }
 
     /// The temperature to use for an accepted sample: `temp_c` when it is NaN (none) or
@@ -392,7 +393,14 @@ mod tests {
     const PERIOD: u64 = 10_000_000;
 
     fn config() -> InputConfig {
-        InputConfig { range_dps: 100.0, period_ns: PERIOD, gap_factor: 3.0, spike_z: 8.0, spike_max_run: 3, stuck_s: 2.0 }
+        InputConfig {
+            range_dps: 100.0,
+            period_ns: PERIOD,
+            gap_factor: 3.0,
+            spike_z: 8.0,
+            spike_max_run: 3,
+            stuck_s: 2.0,
+        }
     }
 
     /// Deterministic noise with σ ≈ 0.1: a sum of three incommensurate sines.

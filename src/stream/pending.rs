@@ -43,7 +43,14 @@ impl PendingQueue {
     /// Room for `delay` pending samples plus the one being pushed.
     pub fn new(delay: usize) -> Self {
         let cap = delay + 1;
-        Self { index: vec![0; cap], rate: vec![[0.0; 3]; cap], temp: vec![f64::NAN; cap], head: 0, len: 0, sum: [0.0; 3] }
+        Self {
+            index: vec![0; cap],
+            rate: vec![[0.0; 3]; cap],
+            temp: vec![f64::NAN; cap],
+            head: 0,
+            len: 0,
+            sum: [0.0; 3],
+        }
     }
 
     /// Resizes for a new delay (the period became known); pending samples are kept, oldest

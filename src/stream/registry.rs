@@ -7,7 +7,9 @@ use super::causal_denoise::CausalConfig;
 use super::detector::{
     DetectorKind, MotionDetector, NoDetector, StatisticalConfig, StatisticalDetector, ThresholdDetector,
 };
-use super::drift::{DriftConfig, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold};
+use super::drift::{
+    DriftConfig, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold,
+};
 use super::motion_gate::MotionConfig;
 
 impl EstimatorKind {

@@ -84,7 +84,11 @@ impl RetrainSchedule {
     /// (the embedding's); the message names the key.
     pub fn validate(&self, history: usize) -> Result<(), String> {
         if self.window < history + 3 {
-            return Err(format!("retrain.window: {} is shorter than the embedding needs ({})", self.window, history + 3));
+            return Err(format!(
+                "retrain.window: {} is shorter than the embedding needs ({})",
+                self.window,
+                history + 3
+            ));
         }
         if self.every_samples == 0 {
             return Err("retrain.every_samples must be at least 1".into());

@@ -131,7 +131,8 @@ pub fn prime_until(raw: &RawPublisher, comp: &CompSubscriber, mut seq: u64, time
 /// Sends `sample(seq)` and waits for its answer, which must be the next one to arrive.
 pub fn round_trip(raw: &RawPublisher, comp: &CompSubscriber, seq: u64) -> CompSample {
     raw.send(sample(seq)).expect("send raw sample");
-    let answer = comp.recv_timeout(Duration::from_secs(20)).unwrap().unwrap_or_else(|| panic!("no answer to seq {seq}"));
+    let answer =
+        comp.recv_timeout(Duration::from_secs(20)).unwrap().unwrap_or_else(|| panic!("no answer to seq {seq}"));
     assert_eq!(answer.seq, seq, "answers arrive once each, in order");
     answer
 }

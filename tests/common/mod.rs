@@ -58,7 +58,11 @@ pub fn real_recording(file: &str) -> Option<PathBuf> {
         // Straight to stderr, not through `eprintln!` (captured by the test harness): the skip
         // shows in a plain `cargo test`.
         use std::io::Write;
-        let _ = writeln!(std::io::stderr(), "SKIP: {} not found (the real recordings live outside the repository)", path.display());
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIP: {} not found (the real recordings live outside the repository)",
+            path.display()
+        );
         None
     }
 }

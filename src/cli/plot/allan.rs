@@ -14,8 +14,13 @@ use crate::diag::noise_model::{TERMS, basis};
 pub const BAND_LEVEL: f64 = 0.683;
 
 /// Colour of each term's line, in the order Q, N, B, K, R.
-const TERM_COLOURS: [RGBColor; TERMS] =
-    [RGBColor(148, 103, 189), RGBColor(31, 119, 180), RGBColor(44, 160, 44), RGBColor(255, 127, 14), RGBColor(214, 39, 40)];
+const TERM_COLOURS: [RGBColor; TERMS] = [
+    RGBColor(148, 103, 189),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(214, 39, 40),
+];
 /// Legend text of each term (name, slope, symbol, unit).
 const TERM_LABELS: [(&str, &str, &str, &str); TERMS] = [
     ("quantisation", "-1", "Q", "deg"),
@@ -84,7 +89,10 @@ impl Figure for AllanFigure<'_> {
             let grid: Vec<f64> = (0..=100).map(|i| x_lo * (x_hi / x_lo).powf(i as f64 / 100.0)).collect();
             let total: Vec<(f64, f64)> = grid.iter().map(|&t| (t, fit.model.allan_deviation(t))).collect();
             chart.draw_series(LineSeries::new(total, BLACK.stroke_width(2))).map_err(draw_err)?;
-            entries.push((format!("IEEE 952 fit (RMS misfit {:.1} %)", 100.0 * fit.rms_relative_residual), Mark::Line(BLACK, 2)));
+            entries.push((
+                format!("IEEE 952 fit (RMS misfit {:.1} %)", 100.0 * fit.rms_relative_residual),
+                Mark::Line(BLACK, 2),
+            ));
             for j in (0..TERMS).filter(|&j| fit.active[j] && squares[j] > 0.0) {
                 let (name, slope, symbol, unit) = TERM_LABELS[j];
                 let line: Vec<(f64, f64)> = grid
@@ -95,7 +103,8 @@ impl Figure for AllanFigure<'_> {
                 let colour = TERM_COLOURS[j];
                 chart.draw_series(DashedLineSeries::new(line, 8, 5, colour.stroke_width(2))).map_err(draw_err)?;
                 let value = [fit.model.q, fit.model.n, fit.model.b, fit.model.k, fit.model.r][j];
-                entries.push((format!("{name}, slope {slope}: {symbol} = {value:.3e} {unit}"), Mark::Dashed(colour, 2)));
+                entries
+                    .push((format!("{name}, slope {slope}: {symbol} = {value:.3e} {unit}"), Mark::Dashed(colour, 2)));
             }
         }
         legend(&chart.plotting_area().strip_coord_spec(), &entries, Corner::UpperRight, 14.0)?;

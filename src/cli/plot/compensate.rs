@@ -146,7 +146,8 @@ struct Flags {
 /// Legend entries of a panel.
 type Entries = Vec<(String, Mark)>;
 
-type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
+type Chart<'a, DB> =
+    ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
 
 impl CompensateFigure<'_> {
     /// A panel with its axes and the flagged spans shaded; the legend entries of the spans.
@@ -217,7 +218,13 @@ impl CompensateFigure<'_> {
         flags: &Flags,
     ) -> Result<(), PlotError> {
         let still: Vec<f64> = (0..axis.raw.len())
-            .map(|i| if self.moving.get(i) == Some(&false) && self.rejected.get(i) == Some(&false) { 0.0 } else { f64::INFINITY })
+            .map(|i| {
+                if self.moving.get(i) == Some(&false) && self.rejected.get(i) == Some(&false) {
+                    0.0
+                } else {
+                    f64::INFINITY
+                }
+            })
             .collect();
         let noise = envelope(self.t_s, &axis.raw, &still, COLUMNS);
         let band = envelope(self.t_s, &axis.drift, &axis.drift_std, COLUMNS);
@@ -228,7 +235,10 @@ impl CompensateFigure<'_> {
         let (y0, y1) = range(drift.iter().map(|p| p.1).chain([q_lo, q_hi]), false, 0.08);
         let y_desc = format!("{} drift (deg/s)", axis.column);
         let (mut chart, mut entries) = Self::panel(area, t, (y0, y1), &y_desc, flags)?;
-        let columns = noise.iter().flatten().map(|&(x, lo, hi)| PathElement::new(vec![(x, lo.max(y0)), (x, hi.min(y1))], RAW.mix(0.6)));
+        let columns = noise
+            .iter()
+            .flatten()
+            .map(|&(x, lo, hi)| PathElement::new(vec![(x, lo.max(y0)), (x, hi.min(y1))], RAW.mix(0.6)));
         chart.draw_series(columns).map_err(draw_err)?;
         entries.push(("raw rate, static samples".to_owned(), Mark::Line(RAW, 2)));
         let shade = DRIFT.mix(0.25).filled();

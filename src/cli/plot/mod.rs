@@ -264,11 +264,7 @@ pub fn range(values: impl Iterator<Item = f64>, log: bool, pad: f64) -> (f64, f6
 /// A tick label for a log axis: powers of ten as `1e-3`, others in short `{:e}` form.
 pub fn log_label(v: &f64) -> String {
     let e = v.log10();
-    if (e - e.round()).abs() < 1e-9 {
-        format!("1e{}", e.round() as i32)
-    } else {
-        format!("{v:.1e}")
-    }
+    if (e - e.round()).abs() < 1e-9 { format!("1e{}", e.round() as i32) } else { format!("{v:.1e}") }
 }
 
 #[cfg(test)]

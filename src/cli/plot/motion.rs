@@ -54,7 +54,8 @@ impl Figure for MotionFigure<'_> {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-        let segments = self.models.iter().map(|m| m.angle_err_deg.len()).chain([self.floor_deg.len()]).max().unwrap_or(0);
+        let segments =
+            self.models.iter().map(|m| m.angle_err_deg.len()).chain([self.floor_deg.len()]).max().unwrap_or(0);
         let values = self.models.iter().flat_map(|m| m.angle_err_deg.iter()).chain(self.floor_deg).copied();
         let (y_lo, y_hi) = range(values, true, 0.08);
         let (width, _) = root.dim_in_pixel();

@@ -55,7 +55,9 @@ impl Figure for BandFigure<'_> {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         let ys = || {
-            self.real.iter().chain([self.before, self.after].into_iter().flat_map(|b| b.lo.iter().chain(&b.median).chain(&b.hi)))
+            self.real
+                .iter()
+                .chain([self.before, self.after].into_iter().flat_map(|b| b.lo.iter().chain(&b.median).chain(&b.hi)))
         };
         let (x0, x1) = range(self.x.iter().copied(), self.log, 0.03);
         let (y0, y1) = range(ys().copied(), self.log, 0.05);
@@ -149,7 +151,12 @@ impl Figure for RankingFigure<'_> {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         let rows = self.rows.len().max(1);
-        let max = self.rows.iter().flat_map(|r| [r.train, r.hold]).chain([self.baseline.0, self.baseline.1]).fold(0.0, f64::max);
+        let max = self
+            .rows
+            .iter()
+            .flat_map(|r| [r.train, r.hold])
+            .chain([self.baseline.0, self.baseline.1])
+            .fold(0.0, f64::max);
         // Room right of the longest bar for its value.
         let x1 = (max * 1.3).max(1e-9);
         let (y0, y1) = (-0.6, rows as f64 - 0.4);
@@ -194,18 +201,28 @@ impl Figure for RankingFigure<'_> {
         let parts: [(Pick, (f64, f64), RGBColor, &str); 2] =
             [(|r| r.train, (-0.34, -0.02), train, "training"), (|r| r.hold, (0.02, 0.34), AFTER, "hold-out")];
         for (pick, off, colour, label) in parts {
-            let rects = bars(pick, off).into_iter().map(|(a, b, v)| Rectangle::new([(0.0, a), (v, b)], colour.filled()));
+            let rects =
+                bars(pick, off).into_iter().map(|(a, b, v)| Rectangle::new([(0.0, a), (v, b)], colour.filled()));
             chart.draw_series(rects).map_err(draw_err)?;
             entries.push((label.to_owned(), Mark::Fill(colour, 1.0)));
         }
         chart
             .draw_series(self.rows.iter().enumerate().map(|(i, r)| {
                 let at = (r.train.max(r.hold) + 0.01 * x1, row_y(i));
-                Text::new(format!("{:.2} / {:.2}", r.train, r.hold), at, font(12.0).pos(Pos::new(HPos::Left, VPos::Center)))
+                Text::new(
+                    format!("{:.2} / {:.2}", r.train, r.hold),
+                    at,
+                    font(12.0).pos(Pos::new(HPos::Left, VPos::Center)),
+                )
             }))
             .map_err(draw_err)?;
-        for (v, colour, label) in [(self.baseline.0, RGBColor(0x55, 0x55, 0x55), "baseline, training"), (self.baseline.1, REAL, "baseline, hold-out")] {
-            chart.draw_series(DashedLineSeries::new([(v, y0), (v, y1)], 6, 4, colour.stroke_width(2))).map_err(draw_err)?;
+        for (v, colour, label) in [
+            (self.baseline.0, RGBColor(0x55, 0x55, 0x55), "baseline, training"),
+            (self.baseline.1, REAL, "baseline, hold-out"),
+        ] {
+            chart
+                .draw_series(DashedLineSeries::new([(v, y0), (v, y1)], 6, 4, colour.stroke_width(2)))
+                .map_err(draw_err)?;
             entries.push((format!("{label} {v:.2}"), Mark::Dashed(colour, 2)));
         }
         // Under the chart: inside it, the legend would cover the longest bar, wherever that is.

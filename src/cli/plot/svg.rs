@@ -46,7 +46,12 @@ impl DrawingBackend for FontFreeSvg<'_> {
     fn draw_pixel(&mut self, point: BackendCoord, color: BackendColor) -> Result2<Self::ErrorType> {
         self.0.draw_pixel(point, color)
     }
-    fn draw_line<S: BackendStyle>(&mut self, from: BackendCoord, to: BackendCoord, style: &S) -> Result2<Self::ErrorType> {
+    fn draw_line<S: BackendStyle>(
+        &mut self,
+        from: BackendCoord,
+        to: BackendCoord,
+        style: &S,
+    ) -> Result2<Self::ErrorType> {
         self.0.draw_line(from, to, style)
     }
     fn draw_rect<S: BackendStyle>(
@@ -94,12 +99,7 @@ impl DrawingBackend for FontFreeSvg<'_> {
         let width = (EM_PER_CHAR * em * text.chars().count() as f64).ceil() as u32;
         Ok((width, em.ceil() as u32))
     }
-    fn blit_bitmap(
-        &mut self,
-        pos: BackendCoord,
-        (iw, ih): (u32, u32),
-        src: &[u8],
-    ) -> Result2<Self::ErrorType> {
+    fn blit_bitmap(&mut self, pos: BackendCoord, (iw, ih): (u32, u32), src: &[u8]) -> Result2<Self::ErrorType> {
         self.0.blit_bitmap(pos, (iw, ih), src)
     }
 }

@@ -42,7 +42,10 @@ impl ModelBuilder<'_> {
     /// the same refitted noise terms simulated without the effect (one refit serves both).
     /// The null is `None` with a given baseline (nothing is refitted) and for effects without a
     /// deterministic part (their null is the baseline).
-    pub(super) fn build_with_own_null(&self, effect: &FittedEffect) -> Result<(SimModel, Option<SimModel>), SimgapError> {
+    pub(super) fn build_with_own_null(
+        &self,
+        effect: &FittedEffect,
+    ) -> Result<(SimModel, Option<SimModel>), SimgapError> {
         let noise = self.noise(&[effect])?;
         let own_null =
             (matches!(noise, Noise::Fitted(_)) && effect.training_part.is_some()).then(|| self.model(&noise, &[]));

@@ -36,7 +36,9 @@ impl Verdict {
         match self {
             Verdict::NoSignificantGap => "no significant gap",
             Verdict::Explained => "gap explained",
-            Verdict::PartlyExplained => "gap partly explained: the chosen effects remove most of it; a significant residual remains",
+            Verdict::PartlyExplained => {
+                "gap partly explained: the chosen effects remove most of it; a significant residual remains"
+            }
             Verdict::Unexplained => "gap remains unexplained",
         }
     }

@@ -7,8 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use super::check_series;
 use super::lstsq::QrFit;
-use crate::model::{Fit, FitError, Predict};
 use crate::model::embed::Embedding;
+use crate::model::{Fit, FitError, Predict};
 
 /// Linear-PSR configuration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -24,8 +24,8 @@ use serde::{Deserialize, Serialize};
 use super::baselines::check_series;
 use super::baselines::linear_psr::check_embedding;
 use super::{Fit, FitError, Predict};
-use crate::model::rng::SplitMix64;
 use crate::model::embed::Embedding;
+use crate::model::rng::SplitMix64;
 use lm::{LmSettings, Rows};
 use net::Layout;
 

@@ -88,7 +88,6 @@ pub struct LssvmModel {
     pub expansion: KernelExpansion,
 }
 
-
 /// Which LS-SVM solves the problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Solver {

@@ -6,8 +6,8 @@ use super::exact::solve_exact;
 use super::expansion::{KernelExpansion, LssvmModel};
 use super::validate::check_hyper;
 use crate::model::baselines::linear_psr::check_embedding;
-use crate::model::{Fit, FitError, Predict};
 use crate::model::embed::{Embedded, Embedding};
+use crate::model::{Fit, FitError, Predict};
 
 impl Predict for LssvmModel {
     fn history_len(&self) -> usize {

@@ -28,8 +28,8 @@ use super::kernel::sq_dist_matrix;
 use super::model::embed_series;
 use super::prototypes::{PrototypeSelection, select_prototypes};
 use super::validate::{check_hyper, check_rows};
-use crate::model::{Fit, FitError};
 use crate::model::embed::Embedding;
+use crate::model::{Fit, FitError};
 
 /// Default relative tolerance of the pivoted Cholesky of the prototype kernel matrix: prototypes
 /// whose Nyström residual `K(z, z) − k̂(z, z)` is below it are dropped (cond(L) ≤ 10⁵).

@@ -18,9 +18,9 @@ use super::model::embed_series;
 use super::nystrom::{DEFAULT_RANK_TOL, NystromProblem};
 use super::prototypes::{PrototypeSelection, select_prototypes};
 use crate::model::cpso::{CpsoConfig, CpsoHistory, minimize};
+use crate::model::embed::Embedding;
 use crate::model::snapshot::{ModelState, TunedLssvm};
 use crate::model::{Fit, FitError, Predict};
-use crate::model::embed::Embedding;
 
 /// The objective CPSO minimises over (γ, σ²).
 #[derive(Debug, Clone, Copy, PartialEq)]

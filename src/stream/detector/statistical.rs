@@ -87,13 +87,17 @@ impl StatisticalConfig {
         {
             return Err(format!("motion.windows_s: {:?} must be ascending, each in (0, 3600] s", self.windows_s));
         }
-        for (key, v) in [("variance_window_s", self.variance_window_s), ("settle_s", self.settle_s), ("guard_s", self.guard_s)] {
+        for (key, v) in
+            [("variance_window_s", self.variance_window_s), ("settle_s", self.settle_s), ("guard_s", self.guard_s)]
+        {
             if !(v.is_finite() && (0.0..=3600.0).contains(&v)) {
                 return Err(format!("motion.{key}: {v} must lie in [0, 3600] s"));
             }
         }
         let longest = self.windows_s.last().copied().unwrap_or(0.0);
-        if !(self.relearn_s == 0.0 || (self.relearn_s.is_finite() && self.relearn_s >= 2.0 * longest && self.relearn_s <= 86_400.0)) {
+        if !(self.relearn_s == 0.0
+            || (self.relearn_s.is_finite() && self.relearn_s >= 2.0 * longest && self.relearn_s <= 86_400.0))
+        {
             return Err(format!(
                 "motion.relearn_s: {} must be 0 (never) or lie in [2 × the longest window ({longest} s), 86400] s",
                 self.relearn_s
@@ -464,7 +468,8 @@ impl MotionDetector for StatisticalDetector {
         let samples = |s: f64| ((s / period_s).round().min(MAX_WINDOW_SAMPLES as f64) as usize).max(1);
         self.windows = self.config.windows_s.iter().map(|&w| samples(w)).collect();
         self.windows.dedup();
-        self.variance_window = if self.config.variance_window_s > 0.0 { samples(self.config.variance_window_s).max(2) } else { 0 };
+        self.variance_window =
+            if self.config.variance_window_s > 0.0 { samples(self.config.variance_window_s).max(2) } else { 0 };
         self.chi2 = (0..=self.variance_window)
             .map(|n| if n >= 2 { chi2_upper((n - 1) as f64, self.config.false_alarm) } else { 0.0 })
             .collect();
@@ -475,7 +480,8 @@ impl MotionDetector for StatisticalDetector {
         let longest = self.longest.max(self.variance_window);
         self.delay = longest + self.guard;
         // The run's length in whole blocks of the longest window.
-        self.relearn_blocks = if self.config.relearn_s > 0.0 { (span(self.config.relearn_s) / self.longest).max(1) } else { 0 };
+        self.relearn_blocks =
+            if self.config.relearn_s > 0.0 { (span(self.config.relearn_s) / self.longest).max(1) } else { 0 };
         self.stuck.reset();
         self.rings = std::array::from_fn(|_| PrefixRing::with_capacity(longest + 1));
         self.since_alarm = 0;
@@ -621,7 +627,10 @@ mod tests {
                 relearnt.push(i);
             }
         }
-        assert!(relearnt.len() == 2 && (2_990..3_010).contains(&relearnt[0]) && (5_990..6_010).contains(&relearnt[1]), "a relearn after each 300 s (5 blocks): {relearnt:?}");
+        assert!(
+            relearnt.len() == 2 && (2_990..3_010).contains(&relearnt[0]) && (5_990..6_010).contains(&relearnt[1]),
+            "a relearn after each 300 s (5 blocks): {relearnt:?}"
+        );
         assert_eq!(d.counters().relearns, 2);
         // A flagged motion within the run pauses the watch, it does not end the run: the relearn
         // comes 10 s later.
@@ -633,7 +642,10 @@ mod tests {
                 relearnt.push(i);
             }
         }
-        assert!(relearnt.len() == 2 && (3_090..3_110).contains(&relearnt[0]) && (6_090..6_110).contains(&relearnt[1]), "{relearnt:?}");
+        assert!(
+            relearnt.len() == 2 && (3_090..3_110).contains(&relearnt[0]) && (6_090..6_110).contains(&relearnt[1]),
+            "{relearnt:?}"
+        );
         // The same offset, but the publisher says moving throughout: never relearn.
         let (mut d, noise, mut rng) = setup();
         for _ in 0..9_000 {

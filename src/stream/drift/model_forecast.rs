@@ -76,7 +76,10 @@ impl DriftEstimator for ModelForecast {
             n => noise.mean_variance(n as usize).unwrap_or(f64::INFINITY),
         };
         let guard = self.slot.load();
-        self.candidate = match guard.as_ref().and_then(|m| m.predict_ahead(self.history.as_slice(), self.steps, &mut self.scratch)) {
+        self.candidate = match guard
+            .as_ref()
+            .and_then(|m| m.predict_ahead(self.history.as_slice(), self.steps, &mut self.scratch))
+        {
             Some(d) => DriftEstimate { drift: d, variance, from_model: true },
             None => DriftEstimate { drift: self.bias, variance, from_model: false },
         };

@@ -81,8 +81,6 @@ use super::sample::{FLAG_MOVING, InputSample, OutputSample, STATUS_MOVING, STATU
 /// 0.59×, 0.57×, 0.62× bias-hold, whole-run 1.02×, 0.35×, 0.43×), never on reported recordings.
 pub const MIN_TRACKING_FRACTION: f64 = 0.3;
 
-
-
 /// One axis: its drift estimator and the values held for moving and rejected samples.
 #[derive(Debug)]
 struct AxisState {

@@ -187,7 +187,9 @@ impl Snapshot {
     /// warm states and shared state.
     pub fn validate(&self) -> Result<(), SnapshotError> {
         if !self.stream.is_valid() {
-            return Err(SnapshotError::Invalid("the pending samples, detector or input state hold a non-finite value".into()));
+            return Err(SnapshotError::Invalid(
+                "the pending samples, detector or input state hold a non-finite value".into(),
+            ));
         }
         if self.stream.detector.kind().name() != self.compat.detector {
             return Err(SnapshotError::Invalid(format!(
@@ -384,7 +386,8 @@ mod tests {
         };
         let bias = |a: u64| 0.1 * a as f64 + 0.02 * (k as f64 * 1e-3).sin();
         let turn = if turns.iter().any(|r| r.contains(&k)) { 20.0 } else { 0.0 };
-        let mut s = InputSample::new(k, k * 100_000_000, [bias(0) + noise(0), bias(1) + noise(1), bias(2) + noise(2) + turn]);
+        let mut s =
+            InputSample::new(k, k * 100_000_000, [bias(0) + noise(0), bias(1) + noise(1), bias(2) + noise(2) + turn]);
         s.temp_c = if k.is_multiple_of(97) { f64::NAN } else { 25.0 + k as f64 * 1e-3 };
         s
     }
@@ -429,7 +432,10 @@ mod tests {
         }
         // Same flags and counts from the restart on, and the state left at the end is the same.
         let after = restored.stats().detector.onsets;
-        assert!(after >= 1 && after == original.stats().detector.onsets - onsets, "the second turn is found after the restart");
+        assert!(
+            after >= 1 && after == original.stats().detector.onsets - onsets,
+            "the second turn is found after the restart"
+        );
         assert_eq!(capture(&restored).encode().unwrap(), capture(&original).encode().unwrap());
         // A cold start is not the same: what made the difference is the snapshot.
         assert!(differs > 1000, "{differs}");

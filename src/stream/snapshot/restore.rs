@@ -47,7 +47,8 @@ impl Snapshot {
     pub fn restore_into(&self, pipeline: &mut Pipeline) -> Result<(), SnapshotError> {
         self.compat.check(&Compat::of(pipeline.config()))?;
         self.validate()?;
-        let mut scratch = Pipeline::new(pipeline.config().clone()).map_err(|e| SnapshotError::Incompatible(e.to_string()))?;
+        let mut scratch =
+            Pipeline::new(pipeline.config().clone()).map_err(|e| SnapshotError::Incompatible(e.to_string()))?;
         self.apply(&mut scratch)?;
         self.apply(pipeline)
     }

@@ -49,11 +49,11 @@ impl AxisWarm {
             && self.drift_std >= 0.0
             && self.noise.is_valid()
             && [self.bias, self.drift, self.comp]
-            .iter()
-            .chain(self.temperature.iter().flatten())
-            .chain(self.last_temp_c.iter())
-            .chain(&self.denoiser_window)
-            .chain(&self.history)
-            .all(|v| v.is_finite())
+                .iter()
+                .chain(self.temperature.iter().flatten())
+                .chain(self.last_temp_c.iter())
+                .chain(&self.denoiser_window)
+                .chain(&self.history)
+                .all(|v| v.is_finite())
     }
 }

@@ -16,8 +16,8 @@ use std::time::{Duration, Instant};
 
 use gyrocomp::daemon::convert::{output_from_comp, raw_from_input};
 use gyrocomp::io::Recording;
-use gyrocomp::stream::OutputSample;
 use gyrocomp::ipc::{CompSample, IpcError, prime};
+use gyrocomp::stream::OutputSample;
 
 use crate::connect::Client;
 

@@ -118,7 +118,8 @@ impl Summary {
         let (Ok(g), Ok(hold)) = (run.score(&ours), run.bias_hold(BIAS_HOLD_S)) else { return self };
         let Ok(b) = run.score(&hold.compensated) else { return self };
         let floor = run.sensor_arw().map(|n| run.white_noise_floor(n)).unwrap_or_default();
-        if let (Some(gm), Some(bm), Some(fm)) = (g.angle_err_deg_median, b.angle_err_deg_median, quantile(&floor, 0.5)) {
+        if let (Some(gm), Some(bm), Some(fm)) = (g.angle_err_deg_median, b.angle_err_deg_median, quantile(&floor, 0.5))
+        {
             self.motion = Some(MotionFigures {
                 motions: run.segments().len(),
                 gyrocomp_median_deg: gm,
@@ -134,7 +135,13 @@ impl Summary {
     /// Adds the drift errors against `truth` (the first axis' true drift, one value per row):
     /// ours and the start-up bias-hold baseline's, over the answered rows after its 60 s window
     /// (which ends at the first sample of `first_motion`, when motion was injected).
-    pub fn with_truth(mut self, rec: &Recording, result: &ReplayResult, truth: &[f64], first_motion: Option<usize>) -> Self {
+    pub fn with_truth(
+        mut self,
+        rec: &Recording,
+        result: &ReplayResult,
+        truth: &[f64],
+        first_motion: Option<usize>,
+    ) -> Self {
         let raw = rec.rate(0).unwrap_or(&[]);
         let mut hold = BiasHold::from_duration(BIAS_HOLD_S, rec.sample_rate_hz().unwrap_or(1.0));
         hold.samples = hold.samples.min(first_motion.unwrap_or(usize::MAX)).max(1);

@@ -6,11 +6,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use gyrocomp::io::write_sim_csv;
 use gyrocomp::config::Config;
+use gyrocomp::drive::compensate_recording;
+use gyrocomp::io::write_sim_csv;
 use gyrocomp::io::{CompensatedCsvWriter, Recording};
 use gyrocomp::sim::{Generator, Preset};
-use gyrocomp::drive::compensate_recording;
 use replay::EmbeddedDaemon;
 use serde_json::Value;
 

@@ -36,14 +36,14 @@
 
 use std::path::Path;
 use std::process::Command;
-use std::sync::{Arc, Mutex};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use gyrocomp::io::write_sim_csv;
 use gyrocomp::config::Config;
-use gyrocomp::sim::{Generator, Preset};
+use gyrocomp::io::write_sim_csv;
 use gyrocomp::ipc::{IpcDomain, IpcNode, StatusSample};
+use gyrocomp::sim::{Generator, Preset};
 use gyrocomp::stream::EstimatorKind;
 use replay::EmbeddedDaemon;
 use serde_json::Value;
@@ -169,8 +169,7 @@ fn soak(dir: &Path, seconds: f64, estimator: EstimatorKind, warm_samples: u64) -
         .unwrap();
     replay_done.store(true, Ordering::Relaxed);
     let (warm_rss, after, trend, last) = sampler.join().unwrap();
-    let trend: Vec<String> =
-        trend.iter().map(|(t, r)| format!("{}%:{:.2}", t * 10, *r as f64 / 1e6)).collect();
+    let trend: Vec<String> = trend.iter().map(|(t, r)| format!("{}%:{:.2}", t * 10, *r as f64 / 1e6)).collect();
     eprintln!("soak [{estimator}]: RSS (MB) by share of samples answered: {}", trend.join(" "));
     let run = daemon.stop().unwrap();
     assert!(out.status.success(), "replay: {}", String::from_utf8_lossy(&out.stderr));
