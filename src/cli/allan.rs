@@ -92,7 +92,8 @@ pub struct AllanArgs {
     pub format: Option<AllanFormat>,
     /// Bootstrap replicates of the fitted terms' 95 % confidence intervals ("fit_ci" in the
     /// JSON, brackets in the table): recordings simulated from the fitted model and refitted;
-    /// each costs about one Allan deviation of the input. 0: no intervals.
+    /// each costs about one Allan deviation of the input. 0: no intervals (`--format kalibr`
+    /// prints none, so it never computes them).
     #[arg(long, default_value_t = DEFAULT_DRAWS)]
     pub ci_draws: usize,
     /// Also draw the Allan deviation into this file (.svg or .png, by its extension): the
@@ -149,13 +150,15 @@ pub fn run(args: &AllanArgs) -> Result<(), CliError> {
             None
         }
     };
-    if fit.is_some() && args.ci_draws > 0 && samples >= CI_NOTICE_SAMPLES {
+    // The Kalibr YAML has no intervals: the bootstrap runs only for the formats that print them.
+    let draws = if args.output_format() == AllanFormat::Kalibr { 0 } else { args.ci_draws };
+    if fit.is_some() && draws > 0 && samples >= CI_NOTICE_SAMPLES {
         tracing::info!(
             "confidence intervals: simulating and fitting {} recordings of {samples} samples, each about the cost of this Allan deviation (--ci-draws 0 skips them)",
-            args.ci_draws
+            draws
         );
     }
-    let ci = match (&fit, args.ci_draws) {
+    let ci = match (&fit, draws) {
         (Some(f), draws) if draws > 0 => match fit_intervals(&octave, weighting, f, CI_LEVEL, draws, CI_SEED) {
             Ok(ci) => Some(ci),
             Err(e) => {
