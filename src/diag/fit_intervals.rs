@@ -34,6 +34,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use crate::diag::allan::{AllanDeviation, Taus, oadev_with_max_m};
 use crate::diag::noise_fit::{NoiseFit, Weighting, fit_allan};
 use crate::diag::noise_model::{NoiseModel, TERMS};
+use crate::model::metrics::quantile_sorted;
 use crate::sim::{AxisConfig, BiasInstability, ConfigError, Generator, SimConfig};
 
 /// Default number of bootstrap replicates (`gyrocomp allan --ci-draws`).
@@ -111,7 +112,8 @@ pub fn fit_intervals(
     let fitted = [fit.model.q, fit.model.n, fit.model.b, fit.model.k, fit.model.r];
     let [q, n, b, k, r]: [[f64; 2]; TERMS] = std::array::from_fn(|j| {
         let v = values(j);
-        let (lo, hi) = (percentile(&v, p_lo), percentile(&v, p_hi));
+        let (lo, hi) =
+            if v.is_empty() { (f64::NAN, f64::NAN) } else { (quantile_sorted(&v, p_lo), quantile_sorted(&v, p_hi)) };
         // The union of the percentile interval [lo, hi] and the basic one (the replicates' spread
         // reflected about the fit), clipped at zero (module docs).
         let (basic_lo, basic_hi) = (2.0 * fitted[j] - hi, 2.0 * fitted[j] - lo);
@@ -177,17 +179,6 @@ fn replicate(
     models
 }
 
-/// The `p` quantile of sorted values, linear between order statistics; NaN when empty.
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let x = p.clamp(0.0, 1.0) * (sorted.len() - 1) as f64;
-    let (i, frac) = (x.floor() as usize, x - x.floor());
-    let next = sorted[(i + 1).min(sorted.len() - 1)];
-    sorted[i] + frac * (next - sorted[i])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -207,7 +198,7 @@ mod tests {
         assert!(ci.n[0] < fit.model.n && fit.model.n < ci.n[1], "{ci:?} vs {fit:?}");
         assert!(ci.n[1] / ci.n[0] < 1.2, "N is well determined by 2^14 samples: {ci:?}");
         assert_eq!(ci, fit_intervals(&allan, Weighting::IndependentTerms, &fit, 0.95, 30, 7).unwrap());
-        assert_eq!(percentile(&[1.0, 2.0, 3.0], 0.5), 2.0);
-        assert_eq!(percentile(&[1.0, 2.0], 0.25), 1.25);
+        assert_eq!(quantile_sorted(&[1.0, 2.0, 3.0], 0.5), 2.0);
+        assert_eq!(quantile_sorted(&[1.0, 2.0], 0.25), 1.25);
     }
 }
