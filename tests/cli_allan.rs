@@ -3,18 +3,15 @@
 
 mod common;
 
+use common::gyrocomp;
+
 use std::io::Write;
 use std::path::Path;
-use std::process::{Command, Output};
 
 use common::floats;
 use gyrocomp::diag::allan::{Taus, oadev};
 use gyrocomp::diag::noise_fit::{Weighting, fit_allan};
 use serde_json::Value;
-
-fn gyrocomp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().expect("run gyrocomp")
-}
 
 /// A deterministic rate series: a slow sinusoidal drift plus an LCG-driven noise, deg/s.
 fn series(len: usize) -> Vec<f64> {

@@ -3,7 +3,6 @@
 //! runs, and errors that name the file, line and field or the configuration key.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
@@ -11,20 +10,12 @@ const ONE_AXIS_HEADER: &str = "t_s,raw_dps,drift_dps,compensated_dps,status,mode
 
 mod common;
 
+use common::{gyrocomp, ok};
+
 /// A quick configuration at 10 Hz with `retrain.mode = "live"` on purpose: compensate must still
 /// retrain deterministically.
 fn config_text() -> String {
     format!("{}[input]\nrate_hz = 10.0\n{}mode = \"live\"\n", common::PAPER_PIPELINE, common::QUICK_RETRAIN)
-}
-
-fn gyrocomp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().unwrap()
-}
-
-fn ok(args: &[&str]) -> Output {
-    let out = gyrocomp(args);
-    assert!(out.status.success(), "gyrocomp {args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    out
 }
 
 /// A 300 s paper-preset recording (3000 samples at 10 Hz) and the configuration file.

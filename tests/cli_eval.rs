@@ -1,15 +1,13 @@
 //! `gyrocomp eval` on a simulated paper-like recording: every model beside the baselines, on the
 //! same split, with the JSON fields of the specification.
 
+mod common;
+
+use common::ok as gyrocomp;
+
 use std::process::Command;
 
 use serde_json::Value;
-
-fn gyrocomp(args: &[&str]) -> std::process::Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().unwrap();
-    assert!(out.status.success(), "gyrocomp {args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    out
-}
 
 #[test]
 fn paper_protocol_scores_every_model_on_the_same_split() {

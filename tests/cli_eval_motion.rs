@@ -4,12 +4,14 @@
 //! the JSON has the shape of the specification.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 use gyrocomp::sim::{Generator, Preset};
 use serde_json::Value;
 
 mod common;
+
+use common::ok as gyrocomp;
 
 const NAMES: [&str; 11] = [
     "gyrocomp",
@@ -24,12 +26,6 @@ const NAMES: [&str; 11] = [
     "persistence-gated",
     "ar-gated",
 ];
-
-fn gyrocomp(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().unwrap();
-    assert!(out.status.success(), "gyrocomp {args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    out
-}
 
 /// A 10 Hz `gx_dps` recording: `bias + ramp·t`, plus the ADIS16405 preset's errors when `noisy`.
 fn recording(dir: &Path, seconds: f64, bias: f64, ramp: f64, noisy: bool) -> PathBuf {

@@ -4,19 +4,11 @@
 //! unknown extension is refused before any work.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 mod common;
 
-fn gyrocomp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().unwrap()
-}
-
-fn ok(args: &[&str]) -> Output {
-    let out = gyrocomp(args);
-    assert!(out.status.success(), "gyrocomp {args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    out
-}
+use common::{gyrocomp, ok};
 
 /// Checks that `xml` is well-formed as far as tags go: every element opened is closed in order.
 fn assert_balanced_tags(xml: &str) {

@@ -4,16 +4,14 @@
 
 mod common;
 
+use common::gyrocomp;
+
 use std::io::Write;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use gyrocomp::diag::simgap::EffectKind;
 use gyrocomp::diag::simgap::selftest::{Injected, RATE_HZ, case_seed, synthesize};
 use serde_json::Value;
-
-fn gyrocomp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().expect("run gyrocomp")
-}
 
 /// A self-test recording written as CSV (`t_s,gx_dps,temp_c`), `{:?}` so it reads back exactly.
 fn recording(injected: Injected, duration_s: f64, seed: u64) -> (tempfile::NamedTempFile, String) {

@@ -2,18 +2,16 @@
 //! it is: the same samples written in gyrocomp's layout (seconds, deg/s) and in EuRoC's (ns,
 //! rad/s) give the same Allan fit and the same compensated output.
 
+mod common;
+
+use common::ok;
+
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 use gyrocomp::sim::{Generator, Preset};
 use serde_json::Value;
-
-fn ok(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().unwrap();
-    assert!(out.status.success(), "gyrocomp {args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    out
-}
 
 /// 600 s of the ADIS16405 preset at 100 Hz, three axes, written both ways. EuRoC's stamps start
 /// at a real dataset's first timestamp (MH_01_easy), where an f64 resolves 256 ns.

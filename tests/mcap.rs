@@ -15,6 +15,10 @@
 //!   errors listing the topics; a cut message, a truncated or corrupt bag, lz4 chunks and a
 //!   `.mcap` file that is not MCAP are errors naming the file (and the message and field).
 
+mod common;
+
+use common::{gyrocomp, ok};
+
 #[allow(dead_code)] // its iceoryx2 probe is not used here
 #[path = "common/python.rs"]
 mod python;
@@ -36,16 +40,6 @@ const PERIOD_NS: u64 = 10_000_000;
 
 fn bags_or_skip(test: &str) -> bool {
     python::module_or_skip(test, "mcap_ros2.writer", "mcap + mcap-ros2-support", "pip install mcap mcap-ros2-support")
-}
-
-fn gyrocomp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().expect("run gyrocomp")
-}
-
-fn ok(args: &[&str]) -> Output {
-    let out = gyrocomp(args);
-    assert!(out.status.success(), "gyrocomp {args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    out
 }
 
 /// The error text of a failing `gyrocomp` run.

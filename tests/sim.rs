@@ -11,16 +11,7 @@ use gyrocomp::sim::{
 
 /// A config with one model on all axes.
 fn config(rate_hz: f64, duration_s: f64, axis: AxisConfig) -> SimConfig {
-    SimConfig {
-        rate_hz,
-        duration_s,
-        seed: None,
-        temperature: TemperatureConfig::default(),
-        axis,
-        x: AxisConfig::default(),
-        y: AxisConfig::default(),
-        z: AxisConfig::default(),
-    }
+    SimConfig::with_axis(rate_hz, duration_s, axis)
 }
 
 /// Overlapping Allan variance of rate samples `x` averaged over `m` samples.

@@ -14,21 +14,10 @@
 use gyrocomp::diag::allan::{Taus, oadev};
 use gyrocomp::diag::noise_fit::{Weighting, fit_allan};
 use gyrocomp::diag::noise_model::NoiseModel;
-use gyrocomp::sim::{
-    AxisConfig, BiasInstability, Generator, Quantization, QuantizationMode, SimConfig, TemperatureConfig,
-};
+use gyrocomp::sim::{AxisConfig, BiasInstability, Generator, Quantization, QuantizationMode, SimConfig};
 
 fn config(rate_hz: f64, samples: usize, axis: AxisConfig) -> SimConfig {
-    SimConfig {
-        rate_hz,
-        duration_s: samples as f64 / rate_hz,
-        seed: None,
-        temperature: TemperatureConfig::default(),
-        axis,
-        x: AxisConfig::default(),
-        y: AxisConfig::default(),
-        z: AxisConfig::default(),
-    }
+    SimConfig::with_axis(rate_hz, samples as f64 / rate_hz, axis)
 }
 
 /// Fits the six runs (three axes × seeds 1, 2) and returns the fitted models.

@@ -4,6 +4,7 @@
 #![allow(dead_code)] // every test binary uses its own subset
 
 use std::path::PathBuf;
+use std::process::{Command, Output};
 
 use gyrocomp::eval::{PaperProtocol, Prepared};
 use gyrocomp::io::{ReadOptions, read_table};
@@ -76,4 +77,16 @@ pub fn paper_group() -> Option<Prepared> {
     let prepared = PaperProtocol { samples: 5021, ..PaperProtocol::default() }.prepare(&table.columns[0]).unwrap();
     assert_eq!(prepared.train_end, 4021);
     Some(prepared)
+}
+
+/// Runs the `gyrocomp` binary of this package with `args` and returns what it did.
+pub fn gyrocomp(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gyrocomp")).args(args).output().expect("run gyrocomp")
+}
+
+/// Runs `gyrocomp` with `args` and asserts that it succeeded (its stderr in the message).
+pub fn ok(args: &[&str]) -> Output {
+    let out = gyrocomp(args);
+    assert!(out.status.success(), "gyrocomp {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    out
 }
