@@ -10,7 +10,7 @@ outside the catalogue).
 
 Usage:
     score.py CASE_DIR [--gyrocomp target/release/gyrocomp] [--jobs 1] [--extra "--threads 1"]
-             [--results results.json]
+             [--results results.json] [--keep DIR]
 """
 
 import argparse
@@ -37,7 +37,7 @@ def expected_outcome(case):
     return "unexplained" if case["expected"] == "outside" else case["expected"]
 
 
-def run_case(gyrocomp, case_dir, case, extra):
+def run_case(gyrocomp, case_dir, case, extra, keep=None):
     cmd = [gyrocomp, "simgap", "--real", os.path.join(case_dir, case["file"]), "--json"] + extra
     start = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -45,6 +45,9 @@ def run_case(gyrocomp, case_dir, case, extra):
     if proc.returncode != 0:
         return dict(seed=case["seed"], error=proc.stderr.strip()[-400:], seconds=seconds)
     doc = json.loads(proc.stdout)
+    if keep:
+        with open(os.path.join(keep, f"case_{case['seed']}.json"), "w") as f:
+            f.write(proc.stdout)
     named = outcome(doc)
     return dict(
         seed=case["seed"],
@@ -80,6 +83,7 @@ def main():
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--extra", default="", help="more gyrocomp simgap arguments")
     ap.add_argument("--results", help="write per-case results (JSON) here")
+    ap.add_argument("--keep", help="keep every case's full diagnosis JSON in this folder")
     ap.add_argument("--only", help="comma-separated classes to run")
     ap.add_argument("--per-class", type=int, help="run only the first N cases of each class")
     a = ap.parse_args()
@@ -98,9 +102,11 @@ def main():
                 kept.append(c)
         cases = kept
     extra = shlex.split(a.extra)
+    if a.keep:
+        os.makedirs(a.keep, exist_ok=True)
     start = time.time()
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        futures = [pool.submit(run_case, a.gyrocomp, a.case_dir, c, extra) for c in cases]
+        futures = [pool.submit(run_case, a.gyrocomp, a.case_dir, c, extra, a.keep) for c in cases]
         results = []
         for c, fut in zip(cases, futures):
             r = fut.result()

@@ -6,7 +6,7 @@ use super::baseline::NoiseTerms;
 use super::effects::TrainingData;
 use super::inputs::Baseline;
 use super::model::SimModel;
-use super::params::{EffectKind, EffectParams, FittedEffect};
+use super::params::{EffectKind, FittedEffect};
 use super::refit::refit_noise_terms;
 use crate::sim::AxisConfig;
 
@@ -78,14 +78,8 @@ impl ModelBuilder<'_> {
                 model
             }
             Noise::Fitted(terms) => {
-                let mut terms = *terms;
-                for e in effects {
-                    if let EffectParams::Quantization { step_dps } = e.params {
-                        // A rate quantiser adds white noise of variance Δ²/12, which the fitted N
-                        // already holds: take it out so it is not simulated twice.
-                        terms.n = (terms.n * terms.n - step_dps * step_dps / (12.0 * fs)).max(0.0).sqrt();
-                    }
-                }
+                // Under a quantiser the terms are already calibrated to what the rounding adds
+                // ([`super::refit`]), so it is not simulated twice.
                 let bias = self.train.x.iter().sum::<f64>() / self.train.x.len() as f64;
                 let mut model = terms.to_model(fs, self.total_s, bias);
                 for e in effects.iter().filter(|e| e.params.kind() != EffectKind::GaussMarkov) {

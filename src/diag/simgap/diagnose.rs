@@ -9,7 +9,7 @@
 //!    baseline refitted on the training part with the effect's deterministic part removed, plus the
 //!    effect (with a given model: the given model plus the effect). Run its ensemble.
 //!    Effects with a deterministic part are also evaluated against their own null (the refitted
-//!    noise without the effect, [`super::greedy`]).
+//!    noise without the effect), on the whole gap and on their own detector ([`super::greedy`]).
 //! 5. Rank, accept and combine ([`super::greedy`]): **which**, and the gap **after** on the
 //!    hold-out part.
 //!
@@ -21,7 +21,7 @@ use super::builder::ModelBuilder;
 use super::effects::{TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::detect_grid;
-use super::greedy::{OWN_NULL_LEVEL, combine, judge, removes_most};
+use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, removes_most};
 use super::model::SimModel;
 use super::params::{EffectKind, Fitted, FittedEffect};
 use super::stats::StatLayout;
@@ -108,6 +108,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     None => None,
                 };
                 let own_null_judgement = own_null.as_ref().map(|n| judge(n, &evaluation, settings.min_share));
+                let detector =
+                    own_null.as_ref().and_then(|n| detector_test(*kind, setup.layout_train.info(), n, &evaluation));
                 if let Some(n) = &own_null {
                     tracing::info!(
                         "{} own null: gap {:.3} (training), {:.3} (hold-out), significant {}",
@@ -125,6 +127,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     evaluation: Some(evaluation),
                     own_null,
                     own_null_judgement,
+                    detector,
                 }
             }
             Fitted::NotApplicable(why) => EffectResult {
@@ -135,14 +138,23 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 judgement: None,
                 own_null: None,
                 own_null_judgement: None,
+                detector: None,
             },
         };
         effects.push(result);
     }
     effects.sort_by(|a, b| {
-        let score = |e: &EffectResult| e.evaluation.as_ref().map_or(f64::INFINITY, Evaluation::mean_gap);
+        let score = |e: &EffectResult| e.evaluation.as_ref().map_or(f64::INFINITY, Evaluation::mean_log_score);
         score(a).total_cmp(&score(b))
     });
+    // The detector route names only the best-ranked effect: a slow bias motion also correlates
+    // with the temperature, or looks like the start of a warm-up, so a matched filter of another
+    // effect may pass by what the best one explains.
+    for effect in effects.iter_mut().skip(1) {
+        if let Some(test) = &mut effect.detector {
+            test.outranked();
+        }
+    }
     let ranked: Vec<(EffectKind, &Evaluation)> =
         effects.iter().filter_map(|e| e.evaluation.as_ref().map(|ev| (e.kind, ev))).collect();
     let found = |kind: EffectKind| {

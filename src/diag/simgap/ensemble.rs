@@ -71,9 +71,15 @@ impl Evaluation {
         self.train.significant || self.hold.significant
     }
 
-    /// The ranking score of a model: the mean of the training and hold-out gaps.
+    /// The mean of the training and hold-out gaps.
     pub fn mean_gap(&self) -> f64 {
         0.5 * (self.train.score.gap + self.hold.score.gap)
+    }
+
+    /// The ranking score of a model: the mean of the training and hold-out Dawid–Sebastiani
+    /// scores ([`super::gap::GapScore::log_score`]), lower is better.
+    pub fn mean_log_score(&self) -> f64 {
+        0.5 * (self.train.score.log_score + self.hold.score.log_score)
     }
 }
 

@@ -26,7 +26,7 @@
 
 use serde::Serialize;
 
-use super::band::{Band, bands};
+use super::band::{Band, MIN_SD, bands};
 use super::stats::{Group, Scale, StatInfo};
 use crate::model::metrics::{quantile_sorted, sample_std_dev};
 
@@ -60,18 +60,28 @@ pub struct GapScore {
     /// Mean |log10(real / median)| over the Allan deviation points, decades (a unit-free figure
     /// that does not depend on the ensemble's spread).
     pub allan_decades: f64,
+    /// The Dawid–Sebastiani score, groups weighted equally: mean over groups of the mean of
+    /// z² + 2·ln s over the group's statistics (s the band's standard deviation). A proper
+    /// scoring rule for a predictive distribution given by its mean and spread (Dawid & Sebastiani
+    /// 1999; Gneiting & Raftery 2007, eq. 27), lower is better: unlike the gap it charges a model
+    /// for a band widened until the recording fits inside. Only differences between models of the
+    /// same recording and part mean anything.
+    pub log_score: f64,
 }
 
 /// Scores `values` against `bands`; returns each statistic's z and the summary.
 pub fn score(info: &[StatInfo], bands: &[Band], values: &[f64]) -> (Vec<f64>, GapScore) {
     let z: Vec<f64> = bands.iter().zip(values).map(|(b, &v)| b.z(v)).collect();
     let mut groups = Vec::new();
+    let mut log_score = 0.0;
     for group in Group::ALL {
         let idx: Vec<usize> = (0..info.len()).filter(|&i| info[i].group == group).collect();
         if idx.is_empty() {
             continue;
         }
         let mean_sq = idx.iter().map(|&i| z[i] * z[i]).sum::<f64>() / idx.len() as f64;
+        log_score +=
+            idx.iter().map(|&i| z[i] * z[i] + 2.0 * bands[i].sd.max(MIN_SD).ln()).sum::<f64>() / idx.len() as f64;
         let outside = idx.iter().filter(|&&i| bands[i].outside(values[i])).count();
         groups.push(GroupScore { group, rms_z: mean_sq.sqrt(), statistics: idx.len(), outside });
     }
@@ -85,6 +95,7 @@ pub fn score(info: &[StatInfo], bands: &[Band], values: &[f64]) -> (Vec<f64>, Ga
         outside: groups.iter().map(|g| g.outside).sum(),
         max_abs_z: z.iter().fold(0.0, |m: f64, v| m.max(v.abs())),
         allan_decades: allan.iter().sum::<f64>() / allan.len().max(1) as f64,
+        log_score: log_score / groups.len().max(1) as f64,
         groups,
     };
     (z, summary)
@@ -294,5 +305,26 @@ mod tests {
         assert!(outside.excess() > 0.0 && inside.excess() < outside.excess());
         // The null median is what members show: below the threshold.
         assert!(inside.null.median < inside.null.threshold);
+    }
+
+    /// A band widened until the recording sits inside it lowers the gap but pays in the
+    /// Dawid–Sebastiani score; a band centred on the recording at the same width scores best.
+    #[test]
+    fn the_log_score_charges_a_widened_band() {
+        let layout = vec![info(Group::Psd), info(Group::Distribution)];
+        let spread = |centre: f64, width: f64| -> Vec<Vec<f64>> {
+            (0..40).map(|j| vec![centre + width * (j as f64 / 39.0 - 0.5); 2]).collect()
+        };
+        let real = vec![1.0, 1.0];
+        let narrow_off = PartComparison::new(&layout, real.clone(), &spread(0.0, 1.0));
+        let wide = PartComparison::new(&layout, real.clone(), &spread(0.0, 20.0));
+        let narrow_on = PartComparison::new(&layout, real, &spread(1.0, 1.0));
+        assert!(wide.score.gap < narrow_off.score.gap, "{} {}", wide.score.gap, narrow_off.score.gap);
+        assert!(narrow_on.score.log_score < narrow_off.score.log_score);
+        assert!(narrow_on.score.log_score < wide.score.log_score);
+        // z² + 2 ln s by hand: the members are uniform on [−w/2, w/2], s = w·√(40·41/12)/39.
+        let s = 20.0 * (40.0 * 41.0 / 12.0f64).sqrt() / 39.0;
+        let want = (1.0 / s).powi(2) + 2.0 * s.ln();
+        assert!((wide.score.log_score - want).abs() < 1e-9, "{} vs {want}", wide.score.log_score);
     }
 }

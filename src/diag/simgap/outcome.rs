@@ -4,7 +4,7 @@ use serde::Serialize;
 
 use super::baseline::NoiseTerms;
 use super::ensemble::Evaluation;
-use super::greedy::Judgement;
+use super::greedy::{DetectorTest, Judgement};
 use super::model::SimModel;
 use super::params::{EffectKind, EffectParams};
 use super::stats::StatLayout;
@@ -63,6 +63,8 @@ pub struct EffectResult {
     pub own_null: Option<Evaluation>,
     /// How baseline-refit + effect compares with its own null.
     pub own_null_judgement: Option<Judgement>,
+    /// The test on the effect's own detector against its own null ([`super::greedy`]).
+    pub detector: Option<DetectorTest>,
 }
 
 impl EffectResult {
@@ -73,7 +75,7 @@ impl EffectResult {
 
     /// Whether it is accepted against its own null ([`super::greedy`]).
     pub fn accepted_by_own_null(&self) -> bool {
-        self.own_null_judgement.is_some_and(|j| j.explains)
+        self.own_null_judgement.is_some_and(|j| j.explains) || self.detector.as_ref().is_some_and(|d| d.passed)
     }
 }
 
