@@ -101,11 +101,17 @@ pub fn simulate(
         TemperatureBias::new(coefficient, reference, 0.0).add_to(&mut rate, &temp[..len]);
     }
     if let Some(q) = &model.quantization {
-        let mut quantised = vec![0.0; len];
-        Quantiser::new(q.step_dps, q.mode == QuantizationMode::Angle).apply(&rate, &mut quantised);
-        rate = quantised;
+        rate = quantise(q, &rate);
     }
     Ok(rate)
+}
+
+/// `rate` through the output quantiser `q` ([`crate::sim::terms::Quantiser`]), the last step of
+/// [`simulate`].
+pub fn quantise(q: &Quantization, rate: &[f64]) -> Vec<f64> {
+    let mut quantised = vec![0.0; rate.len()];
+    Quantiser::new(q.step_dps, q.mode == QuantizationMode::Angle).apply(rate, &mut quantised);
+    quantised
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@
 use super::SimgapError;
 use super::baseline::{MIN_INDEPENDENT_AVERAGES, NoiseTerms, fit_noise_terms_to};
 use super::effects::{TrainingData, fit_effect};
-use super::model::{SimModel, member_seed, simulate};
+use super::model::{member_seed, quantise, simulate};
 use super::params::{EffectParams, Fitted, FittedEffect};
 use super::robust_allan::robust_oadev;
 use crate::diag::allan::AllanDeviation;
@@ -86,11 +86,7 @@ pub fn refit_noise_terms(
                 }
             }
         }
-        let a_noise = robust_oadev(&noise, fs, MIN_INDEPENDENT_AVERAGES)?;
-        let a_clean = robust_oadev(&again, fs, MIN_INDEPENDENT_AVERAGES)?;
-        for (i, l) in loss.iter_mut().enumerate() {
-            *l += (a_noise.adev[i].powi(2) - a_clean.adev[i].powi(2)) / CORRECTION_MEMBERS as f64;
-        }
+        add_mean_difference(&mut loss, &noise, &again, fs)?;
     }
     let corrected = AllanDeviation {
         adev: allan.adev.iter().zip(&loss).map(|(d, l)| (d * d + l.max(0.0)).sqrt()).collect(),
@@ -119,21 +115,15 @@ fn quantiser_calibrated(
 ) -> Result<NoiseTerms, SimgapError> {
     let fs = train.rate_hz;
     let len = train.x.len();
+    let quantiser = Quantization { step_dps, mode: QuantizationMode::Rate };
     let mut terms = fit_noise_terms_to(allan, total_s, gauss_markov)?;
     for round in 0..QUANTISER_ROUNDS {
         let plain = terms.to_model(fs, total_s, bias_dps);
-        let quantised =
-            SimModel { quantization: Some(Quantization { step_dps, mode: QuantizationMode::Rate }), ..plain.clone() };
         let mut share = vec![0.0; allan.len()];
         for j in 0..CORRECTION_MEMBERS {
             let member_seed = member_seed(splitmix64(seed ^ CORRECTION_SEED ^ round as u64), j);
             let noise = simulate(&plain, fs, len, train.temp_c, member_seed)?;
-            let rounded = simulate(&quantised, fs, len, train.temp_c, member_seed)?;
-            let a_noise = robust_oadev(&noise, fs, MIN_INDEPENDENT_AVERAGES)?;
-            let a_rounded = robust_oadev(&rounded, fs, MIN_INDEPENDENT_AVERAGES)?;
-            for (i, s) in share.iter_mut().enumerate() {
-                *s += (a_rounded.adev[i].powi(2) - a_noise.adev[i].powi(2)) / CORRECTION_MEMBERS as f64;
-            }
+            add_mean_difference(&mut share, &quantise(&quantiser, &noise), &noise, fs)?;
         }
         let without = AllanDeviation {
             adev: allan
@@ -150,9 +140,20 @@ fn quantiser_calibrated(
     Ok(terms)
 }
 
+/// Adds (σ²(`a`) − σ²(`b`)) / [`CORRECTION_MEMBERS`] per octave τ to `acc`: one member's share of
+/// the mean Allan-variance difference of two series of the same length (robust Allan deviation).
+fn add_mean_difference(acc: &mut [f64], a: &[f64], b: &[f64], fs: f64) -> Result<(), SimgapError> {
+    let (a, b) = (robust_oadev(a, fs, MIN_INDEPENDENT_AVERAGES)?, robust_oadev(b, fs, MIN_INDEPENDENT_AVERAGES)?);
+    for (i, v) in acc.iter_mut().enumerate() {
+        *v += (a.adev[i].powi(2) - b.adev[i].powi(2)) / CORRECTION_MEMBERS as f64;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::diag::simgap::model::SimModel;
     use crate::sim::AxisConfig;
 
     /// A grid coarser than the noise (step 1.5 σ): the calibrated terms, simulated and rounded,
