@@ -23,6 +23,7 @@ use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::detect_grid;
 use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, removes_most};
 use super::model::SimModel;
+use super::naming::naming_order;
 use super::params::{EffectKind, Fitted, FittedEffect};
 use super::stats::StatLayout;
 use super::uncertainty::bootstrap;
@@ -191,8 +192,13 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     } else {
         Verdict::Unexplained
     };
-    let chosen =
-        if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) { tried.clone() } else { Vec::new() };
+    // Named first: the cause of the drift part of the gap (naming.rs); `tried` keeps the order
+    // the effects were added in.
+    let chosen = if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) {
+        naming_order(&before, &tried)
+    } else {
+        Vec::new()
+    };
     let after_model = match built.into_iter().find(|(set, _)| *set == tried) {
         Some((_, model)) => model,
         None => builder.build(&tried.iter().filter_map(|&k| found(k)).collect::<Vec<_>>())?.0,

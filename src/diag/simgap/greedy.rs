@@ -34,10 +34,15 @@
 //! **Greedy combination**: start from the baseline; take the best-ranked effect whose addition is
 //! accepted; add it, refit, and repeat with the remaining effects (only those that lowered the mean
 //! gap on their own) while the model still leaves a significant gap, up to a limit on the number
-//! of effects. Whether the result *explains* the gap is decided on the hold-out part
-//! ([`super::diagnose::Verdict`]); when a significant gap is left, the kept effects still *partly*
-//! explain it if they remove at least [`PARTIAL_SHARE`] of the excess gap² on every significant
-//! part ([`removes_most`]), so a dominant cause is named with its residual reported as such.
+//! of effects. At each later step every remaining effect is evaluated together with those kept and
+//! the accepted one with the best score is added (forward stepwise selection): the first ranking
+//! was made against a baseline still missing the kept effects, whose spikes or grid move every
+//! group, so its order no longer says which effect the combination needs. Which kept effect is
+//! *named first* is decided afterwards ([`super::naming`]). Whether the result *explains* the gap
+//! is decided on the hold-out part ([`super::diagnose::Verdict`]); when a significant gap is left,
+//! the kept effects still *partly* explain it if they remove at least [`PARTIAL_SHARE`] of the
+//! excess gap² on every significant part ([`removes_most`]), so a dominant cause is named with its
+//! residual reported as such.
 
 use super::SimgapError;
 use super::ensemble::Evaluation;
@@ -183,7 +188,7 @@ pub fn combine(
     let mut current = baseline.clone();
     let mut evaluations = 0;
     while (current.significant() || (chosen.is_empty() && !own_null.is_empty())) && chosen.len() < max_effects {
-        let mut added = None;
+        let mut added: Option<(EffectKind, Evaluation)> = None;
         for &(kind, single) in ranked {
             if chosen.contains(&kind) {
                 continue;
@@ -201,8 +206,16 @@ pub fn combine(
             };
             let by_own_null = chosen.is_empty() && own_null.contains(&kind);
             if by_own_null || judge(&current, &candidate, min_share).explains {
-                added = Some((kind, candidate));
-                break;
+                if chosen.is_empty() {
+                    // The first step: the ranking is of exactly these evaluations.
+                    added = Some((kind, candidate));
+                    break;
+                }
+                // A later step: the ranking was made without the effects kept since, so every
+                // candidate is scored with them and the best accepted one is kept.
+                if added.as_ref().is_none_or(|(_, a)| candidate.mean_log_score() < a.mean_log_score()) {
+                    added = Some((kind, candidate));
+                }
             }
         }
         match added {
@@ -269,6 +282,30 @@ mod tests {
         assert_eq!(explained.chosen, vec![EffectKind::Warmup]);
         let useless = [(EffectKind::Ramp, &loud)];
         assert!(combine(&loud, &useless, &[], 0.25, 3, never).unwrap().chosen.is_empty());
+    }
+
+    /// After the first step every remaining effect is scored with the kept ones and the best
+    /// accepted one is added, not the first accepted one in the ranking made without them.
+    #[test]
+    fn later_steps_keep_the_best_scoring_accepted_effect() {
+        let baseline = evaluation(vec![5.0, 0.0, 5.0]);
+        let spikes = evaluation(vec![0.0, 0.0, 5.0]);
+        let steps_alone = evaluation(vec![5.0, 0.0, 2.5]);
+        let warmup_alone = evaluation(vec![5.0, 0.0, 3.0]);
+        let ranked =
+            [(EffectKind::Spikes, &spikes), (EffectKind::BiasJumps, &steps_alone), (EffectKind::Warmup, &warmup_alone)];
+        let with = |set: &[EffectKind]| -> Result<Evaluation, SimgapError> {
+            Ok(match set {
+                [EffectKind::Spikes, EffectKind::BiasJumps] => evaluation(vec![0.0, 0.0, 2.0]),
+                [EffectKind::Spikes, EffectKind::Warmup] => evaluation(vec![0.0, 0.0, 0.1]),
+                other => unreachable!("{other:?}"),
+            })
+        };
+        assert!(judge(&spikes, &with(&[EffectKind::Spikes, EffectKind::BiasJumps]).unwrap(), 0.25).explains);
+        let combination = combine(&baseline, &ranked, &[], 0.25, 3, with).unwrap();
+        assert_eq!(combination.chosen, vec![EffectKind::Spikes, EffectKind::Warmup]);
+        assert_eq!(combination.evaluations, 2);
+        assert!(!combination.after.significant());
     }
 
     /// The detector test passes when the effect's matched filter is far out against its own null

@@ -36,6 +36,7 @@ pub mod gap;
 pub mod greedy;
 pub mod inputs;
 pub mod model;
+pub mod naming;
 pub mod outcome;
 pub mod params;
 pub mod refit;

@@ -1,0 +1,133 @@
+//! Which of the chosen effects is named first (issue 16: "the dominant cause named").
+//!
+//! The greedy combination ([`super::greedy`]) adds effects in the order of their score over
+//! every statistic group. That order is right for *explaining the gap*, but not for naming what a
+//! user of a drift compensator means by the main cause: a few spikes, or a quantiser, move the
+//! distribution, short-τ Allan and spectrum groups by many standard deviations and so are added
+//! first, while the bias motion an INS integrates (a warm-up, a ramp, a slow oscillation) shows in
+//! the drift groups ([`DRIFT_GROUPS`]). So when the first effect added only changes the sample
+//! distribution ([`distribution_only`]: spikes, a quantiser), another chosen effect is a bias
+//! motion with its own signature ([`bias_motion`]: a warm-up, a temperature response, a ramp, a
+//! sinusoid, bias steps), and the baseline leaves a gap in the drift groups (their worst standard
+//! score beyond the [`DRIFT_LEVEL`] normal quantile), the first such bias motion in the order
+//! added is named first; otherwise the order is the combination's. A Gauss–Markov process is not
+//! promoted: correlated noise is also what soaks up the mid-τ Allan excess that large spikes
+//! leave (a spikes case of the self-test was named gauss_markov that way). Between two bias
+//! motions the order stays the combination's: a leave-one-out comparison of their drift scores
+//! was tried and reordered pairs such as a ramp with small bias steps at random
+//! (docs/evaluation.md).
+
+use super::ensemble::Evaluation;
+use super::gap::{PartComparison, wilson_hilferty};
+use super::params::EffectKind;
+use super::stats::Group;
+use crate::model::normal::normal_quantile;
+
+/// The statistic groups that describe the drift: the Allan deviation from 1 s up, the strongest
+/// spectral line, the bias trajectory (whole and early) and the effect detectors.
+pub const DRIFT_GROUPS: [Group; 6] = [
+    Group::AllanMid,
+    Group::AllanLong,
+    Group::SpectralLine,
+    Group::Trajectory,
+    Group::EarlyTrajectory,
+    Group::Detectors,
+];
+
+/// One-sided level at which the baseline's worst drift group counts as a drift gap.
+pub const DRIFT_LEVEL: f64 = 0.99;
+
+/// The worst standard score of a drift group over one part: each group's RMS z, Wilson–Hilferty
+/// transformed and standardised by what the ensemble's own members score ([`super::gap::Null`]).
+fn part_drift_score(part: &PartComparison) -> f64 {
+    part.score
+        .groups
+        .iter()
+        .zip(&part.null.groups)
+        .filter(|(g, _)| DRIFT_GROUPS.contains(&g.group))
+        .map(|(g, m)| m.standardise(wilson_hilferty(g.rms_z)))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The worst standard score of a drift group over the training and hold-out parts.
+pub fn drift_score(evaluation: &Evaluation) -> f64 {
+    part_drift_score(&evaluation.train).max(part_drift_score(&evaluation.hold))
+}
+
+/// Whether an effect only changes the sample distribution: zero-mean at the scales a drift is
+/// measured on (spikes, a quantiser).
+pub fn distribution_only(kind: EffectKind) -> bool {
+    matches!(kind, EffectKind::Spikes | EffectKind::Quantization)
+}
+
+/// Whether an effect is a motion of the bias with a signature of its own (not correlated noise).
+pub fn bias_motion(kind: EffectKind) -> bool {
+    matches!(
+        kind,
+        EffectKind::Warmup | EffectKind::Temperature | EffectKind::Ramp | EffectKind::Sinusoid | EffectKind::BiasJumps
+    )
+}
+
+/// The chosen effects (in the order added) in naming order (module documentation); `before` is
+/// the baseline's evaluation.
+pub fn naming_order(before: &Evaluation, chosen: &[EffectKind]) -> Vec<EffectKind> {
+    let mut order = chosen.to_vec();
+    let Some(&first) = order.first() else { return order };
+    if !distribution_only(first) || drift_score(before) <= normal_quantile(DRIFT_LEVEL) {
+        return order;
+    }
+    if let Some(i) = order.iter().position(|&k| bias_motion(k)) {
+        let named = order.remove(i);
+        order.insert(0, named);
+    }
+    order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::simgap::stats::{Scale, StatInfo};
+
+    fn info(group: Group) -> StatInfo {
+        StatInfo { statistic: "psd", band: String::new(), group, scale: Scale::Log10, unit: "", x: f64::NAN }
+    }
+
+    /// One distribution statistic (what spikes move) and one bias-trajectory statistic (what a
+    /// ramp moves), 40 members spread uniformly on [−0.5, 0.5).
+    fn evaluation(distribution: f64, trajectory: f64) -> Evaluation {
+        let layout = vec![info(Group::Distribution), info(Group::Trajectory)];
+        let mut state = 7u64;
+        let mut uniform = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let members: Vec<Vec<f64>> = (0..40).map(|_| vec![uniform(), uniform()]).collect();
+        let part = PartComparison::new(&layout, vec![distribution, trajectory], &members);
+        Evaluation { train: part.clone(), hold: part }
+    }
+
+    /// Spikes added before a ramp and small steps: with a drift gap in the baseline the ramp (the
+    /// first bias motion added) is named first; without one, when anything but spikes or a
+    /// quantiser was added first, with spikes alone or beside Gauss–Markov noise only, the order
+    /// stays.
+    #[test]
+    fn a_bias_moving_effect_is_named_before_spikes_when_the_drift_groups_show_a_gap() {
+        use EffectKind::{BiasJumps, GaussMarkov, Quantization, Ramp, Spikes};
+        let before = evaluation(6.0, 6.0);
+        assert!(drift_score(&before) > normal_quantile(DRIFT_LEVEL), "{}", drift_score(&before));
+        assert_eq!(naming_order(&before, &[Spikes, Ramp, BiasJumps]), vec![Ramp, Spikes, BiasJumps]);
+        assert_eq!(naming_order(&before, &[Quantization, Spikes, BiasJumps]), vec![BiasJumps, Quantization, Spikes]);
+        assert_eq!(naming_order(&before, &[Ramp, BiasJumps, Spikes]), vec![Ramp, BiasJumps, Spikes]);
+        assert_eq!(naming_order(&before, &[Spikes, Quantization]), vec![Spikes, Quantization]);
+        // Correlated noise is not promoted over the spikes; a bias motion after it is.
+        assert_eq!(naming_order(&before, &[Spikes, GaussMarkov]), vec![Spikes, GaussMarkov]);
+        assert_eq!(naming_order(&before, &[Spikes, GaussMarkov, Ramp]), vec![Ramp, Spikes, GaussMarkov]);
+        assert_eq!(naming_order(&before, &[GaussMarkov, Spikes, Ramp]), vec![GaussMarkov, Spikes, Ramp]);
+        assert_eq!(naming_order(&before, &[Spikes]), vec![Spikes]);
+        assert!(naming_order(&before, &[]).is_empty());
+        // The drift groups inside the band: the spikes stay first.
+        let no_drift_gap = evaluation(6.0, 0.0);
+        assert!(drift_score(&no_drift_gap) <= normal_quantile(DRIFT_LEVEL), "{}", drift_score(&no_drift_gap));
+        assert_eq!(naming_order(&no_drift_gap, &[Spikes, Ramp]), vec![Spikes, Ramp]);
+    }
+}
