@@ -171,13 +171,18 @@ impl Null {
     /// The test statistic T of a score and what stands out most in it.
     pub fn t_of(&self, s: &GapScore) -> (f64, Flag) {
         let mut best = (self.gap.standardise(wilson_hilferty(s.gap)), Flag::Gap);
-        for (g, m) in s.groups.iter().zip(&self.groups) {
-            let t = m.standardise(wilson_hilferty(g.rms_z));
+        for (group, t) in self.group_scores(s) {
             if t > best.0 {
-                best = (t, Flag::Group(g.group));
+                best = (t, Flag::Group(group));
             }
         }
         best
+    }
+
+    /// Each group's standard score in `s`: its RMS z, Wilson–Hilferty transformed and
+    /// standardised by what the members score.
+    pub fn group_scores<'a>(&'a self, s: &'a GapScore) -> impl Iterator<Item = (Group, f64)> + 'a {
+        s.groups.iter().zip(&self.groups).map(|(g, m)| (g.group, m.standardise(wilson_hilferty(g.rms_z))))
     }
 
     /// The gap at which the gap alone makes T reach the threshold.
@@ -279,6 +284,19 @@ impl PartComparison {
     }
 }
 
+/// Test members: `count` statistics vectors of `stats` values uniform on [−0.5, 0.5) from a
+/// seeded LCG (Knuth's MMIX constants), shared by the tests of the gap, the greedy combination and
+/// the naming order.
+#[cfg(test)]
+pub(crate) fn uniform_members(count: usize, stats: usize, seed: u64) -> Vec<Vec<f64>> {
+    let mut state = seed;
+    let mut uniform = move || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    (0..count).map(|_| (0..stats).map(|_| uniform()).collect()).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,12 +309,7 @@ mod tests {
     #[test]
     fn significance_follows_the_members() {
         let layout = vec![info(Group::Psd), info(Group::Psd), info(Group::Distribution)];
-        let mut state = 11u64;
-        let mut uniform = move || {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let members: Vec<Vec<f64>> = (0..40).map(|_| vec![uniform(), uniform(), uniform()]).collect();
+        let members = uniform_members(40, 3, 11);
         let inside = PartComparison::new(&layout, vec![0.05, -0.1, 0.0], &members);
         assert!(!inside.significant, "{:?}", inside.score);
         let outside = PartComparison::new(&layout, vec![0.05, -0.1, 5.0], &members);

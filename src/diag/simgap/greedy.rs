@@ -233,7 +233,7 @@ pub fn combine(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::simgap::gap::PartComparison;
+    use crate::diag::simgap::gap::{PartComparison, uniform_members};
     use crate::diag::simgap::stats::{Group, Scale, StatInfo};
 
     fn layout() -> Vec<StatInfo> {
@@ -251,12 +251,7 @@ mod tests {
     }
 
     fn members() -> Vec<Vec<f64>> {
-        let mut state = 7u64;
-        let mut uniform = move || {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        (0..40).map(|_| vec![uniform(), uniform(), uniform()]).collect()
+        uniform_members(40, 3, 7)
     }
 
     fn evaluation(real: Vec<f64>) -> Evaluation {

@@ -18,7 +18,7 @@
 //! (docs/evaluation.md).
 
 use super::ensemble::Evaluation;
-use super::gap::{PartComparison, wilson_hilferty};
+use super::gap::PartComparison;
 use super::params::EffectKind;
 use super::stats::Group;
 use crate::model::normal::normal_quantile;
@@ -37,15 +37,12 @@ pub const DRIFT_GROUPS: [Group; 6] = [
 /// One-sided level at which the baseline's worst drift group counts as a drift gap.
 pub const DRIFT_LEVEL: f64 = 0.99;
 
-/// The worst standard score of a drift group over one part: each group's RMS z, Wilson–Hilferty
-/// transformed and standardised by what the ensemble's own members score ([`super::gap::Null`]).
+/// The worst standard score of a drift group over one part ([`super::gap::Null::group_scores`]).
 fn part_drift_score(part: &PartComparison) -> f64 {
-    part.score
-        .groups
-        .iter()
-        .zip(&part.null.groups)
-        .filter(|(g, _)| DRIFT_GROUPS.contains(&g.group))
-        .map(|(g, m)| m.standardise(wilson_hilferty(g.rms_z)))
+    part.null
+        .group_scores(&part.score)
+        .filter(|(group, _)| DRIFT_GROUPS.contains(group))
+        .map(|(_, t)| t)
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
@@ -86,6 +83,7 @@ pub fn naming_order(before: &Evaluation, chosen: &[EffectKind]) -> Vec<EffectKin
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::diag::simgap::gap::uniform_members;
     use crate::diag::simgap::stats::{Scale, StatInfo};
 
     fn info(group: Group) -> StatInfo {
@@ -96,12 +94,7 @@ mod tests {
     /// ramp moves), 40 members spread uniformly on [−0.5, 0.5).
     fn evaluation(distribution: f64, trajectory: f64) -> Evaluation {
         let layout = vec![info(Group::Distribution), info(Group::Trajectory)];
-        let mut state = 7u64;
-        let mut uniform = move || {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let members: Vec<Vec<f64>> = (0..40).map(|_| vec![uniform(), uniform()]).collect();
+        let members = uniform_members(40, 2, 7);
         let part = PartComparison::new(&layout, vec![distribution, trajectory], &members);
         Evaluation { train: part.clone(), hold: part }
     }
