@@ -4,7 +4,8 @@
 //! user would. Needs python3 with numpy: without it the test is skipped with a SKIP line, and
 //! under `CI=true` (where .ci/run installs numpy) it fails instead.
 //!
-//! Asserted: pure-IEEE recordings (the floor alone) get "no significant gap"; and (ignored by
+//! Asserted: pure-IEEE recordings (the floor alone) get "no significant gap"; a Gauss–Markov
+//! process the IEEE terms absorb is found by the nested-model test; and (ignored by
 //! default, heavy) on the report set of docs/evaluation.md "Independent cases" the classes named
 //! right there stay at their measured counts minus a margin.
 
@@ -90,6 +91,34 @@ fn a_warm_up_is_named_before_the_small_spikes_beside_it() {
     assert_eq!(tried.first().map(String::as_str), Some("spikes"), "added first: {tried:?}");
     assert_eq!(chosen.first().map(String::as_str), Some("warmup"), "named first: {chosen:?} ({})", doc["verdict"]);
     assert!(chosen.contains(&"spikes".to_owned()), "{chosen:?}");
+}
+
+/// A Gauss–Markov process that the fitted IEEE terms absorb (report seed 842, the generator's
+/// "gauss_markov": σ = 0.0027 deg/s, 18 s, on its quiet floor; 3,207 s at 10 Hz): the baseline
+/// shows no significant gap on either part, and the nested-model test (src/diag/simgap/nested.rs,
+/// the bootstrapped Whittle likelihood ratio) finds the process, which is then named. The seventh
+/// session's diagnosis answered "no significant gap" here.
+#[test]
+fn an_absorbed_gauss_markov_process_is_found_by_the_nested_test() {
+    if !numpy_or_skip("an_absorbed_gauss_markov_process_is_found_by_the_nested_test") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cases = generate(dir.path(), &["--first-seed", "842", "--per-class", "1", "--classes", "gauss_markov"]);
+    let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+    let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
+    assert!(!significant("train") && !significant("holdout"), "the baseline alone shows a gap: {}", doc["before"]);
+    let gm = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "gauss_markov").unwrap();
+    let nested = &gm["nested"];
+    assert_eq!(nested["passed"], true, "{nested}");
+    assert!(nested["statistic"].as_f64().unwrap() > 2.0 * nested["threshold"].as_f64().unwrap(), "{nested}");
+    assert_eq!(
+        doc["chosen"].get(0).and_then(Value::as_str),
+        Some("gauss_markov"),
+        "{}: {}",
+        doc["verdict"],
+        doc["chosen"]
+    );
 }
 
 /// The report set of docs/evaluation.md ("Independent cases": `independent_cases.py DIR

@@ -24,6 +24,7 @@ use super::fit_events::detect_grid;
 use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, removes_most};
 use super::model::SimModel;
 use super::naming::naming_order;
+use super::nested::gauss_markov_test;
 use super::params::{EffectKind, Fitted, FittedEffect};
 use super::stats::StatLayout;
 use super::uncertainty::bootstrap;
@@ -111,6 +112,21 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 let own_null_judgement = own_null.as_ref().map(|n| judge(n, &evaluation, settings.min_share));
                 let detector =
                     own_null.as_ref().and_then(|n| detector_test(*kind, setup.layout_train.info(), n, &evaluation));
+                let nested = match (&baseline_terms, kind) {
+                    (Some(terms), EffectKind::GaussMarkov) => {
+                        let test = gauss_markov_test(train, rate_hz, terms, builder.total_s, settings.seed)?;
+                        tracing::info!(
+                            "gauss_markov nested test: S {:.4}, null zero share {:.2}, mean {:.4}, threshold {:.4}, passed {}",
+                            test.statistic,
+                            test.null_zero_share,
+                            test.null_mean,
+                            test.threshold,
+                            test.passed
+                        );
+                        Some((test, false))
+                    }
+                    _ => None,
+                };
                 if let Some(n) = &own_null {
                     tracing::info!(
                         "{} own null: gap {:.3} (training), {:.3} (hold-out), significant {}",
@@ -129,6 +145,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     own_null,
                     own_null_judgement,
                     detector,
+                    nested,
                 }
             }
             Fitted::NotApplicable(why) => EffectResult {
@@ -140,6 +157,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 own_null: None,
                 own_null_judgement: None,
                 detector: None,
+                nested: None,
             },
         };
         effects.push(result);
@@ -154,6 +172,9 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     for effect in effects.iter_mut().skip(1) {
         if let Some(test) = &mut effect.detector {
             test.outranked();
+        }
+        if let Some((_, outranked)) = &mut effect.nested {
+            *outranked = true;
         }
     }
     let ranked: Vec<(EffectKind, &Evaluation)> =

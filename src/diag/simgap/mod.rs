@@ -15,7 +15,9 @@
 //!   [`fit_time`], [`fit_spectral`], [`fit_events`] (the fits).
 //! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
 //!   [`uncertainty`]: the noise terms' uncertainty carried into it.
-//! - [`greedy`]: acceptance, ranking and the greedy combination of effects.
+//! - [`greedy`]: acceptance, ranking and the greedy combination of effects; [`nested`]: the
+//!   nested-model test of a Gauss–Markov process the baseline may have absorbed, on the Whittle
+//!   likelihood of [`whittle`].
 //! - [`diagnose`](mod@diagnose): the whole diagnosis of one recording; [`inputs`] (settings,
 //!   baseline, recording), [`outcome`] (verdict, effect results, diagnosis), [`builder`] (the
 //!   models it simulates).
@@ -37,6 +39,7 @@ pub mod greedy;
 pub mod inputs;
 pub mod model;
 pub mod naming;
+pub mod nested;
 pub mod outcome;
 pub mod params;
 pub mod refit;
@@ -45,6 +48,7 @@ pub mod robust_allan;
 pub mod selftest;
 pub mod stats;
 pub mod uncertainty;
+pub mod whittle;
 
 pub use diagnose::diagnose;
 pub use inputs::{Baseline, Recording, Settings};

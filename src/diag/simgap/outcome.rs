@@ -6,6 +6,7 @@ use super::baseline::NoiseTerms;
 use super::ensemble::Evaluation;
 use super::greedy::{DetectorTest, Judgement};
 use super::model::SimModel;
+use super::nested::NestedTest;
 use super::params::{EffectKind, EffectParams};
 use super::stats::StatLayout;
 
@@ -65,6 +66,10 @@ pub struct EffectResult {
     pub own_null_judgement: Option<Judgement>,
     /// The test on the effect's own detector against its own null ([`super::greedy`]).
     pub detector: Option<DetectorTest>,
+    /// The nested-model test of a stochastic effect against the baseline ([`super::nested`];
+    /// the Gauss–Markov process only), and whether another effect ranks better (then it does
+    /// not count).
+    pub nested: Option<(NestedTest, bool)>,
 }
 
 impl EffectResult {
@@ -75,7 +80,9 @@ impl EffectResult {
 
     /// Whether it is accepted against its own null ([`super::greedy`]).
     pub fn accepted_by_own_null(&self) -> bool {
-        self.own_null_judgement.is_some_and(|j| j.explains) || self.detector.as_ref().is_some_and(|d| d.passed)
+        self.own_null_judgement.is_some_and(|j| j.explains)
+            || self.detector.as_ref().is_some_and(|d| d.passed)
+            || self.nested.as_ref().is_some_and(|(t, outranked)| t.passed && !outranked)
     }
 }
 
