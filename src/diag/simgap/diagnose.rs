@@ -123,7 +123,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                             test.threshold,
                             test.passed
                         );
-                        Some((test, false))
+                        Some(test)
                     }
                     _ => None,
                 };
@@ -173,8 +173,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         if let Some(test) = &mut effect.detector {
             test.outranked();
         }
-        if let Some((_, outranked)) = &mut effect.nested {
-            *outranked = true;
+        if let Some(test) = &mut effect.nested {
+            test.outranked = true;
         }
     }
     let ranked: Vec<(EffectKind, &Evaluation)> =

@@ -23,8 +23,9 @@ const REFINE_STEPS: usize = 40;
 /// Largest FFT length (a longer part is searched on its first 2^21 samples).
 const MAX_FFT: usize = 1 << 21;
 
-/// Power of the DFT of `w·r` at `freq_hz`.
-fn dft_power(r: &[f64], window: &[f64], freq_hz: f64, rate_hz: f64) -> f64 {
+/// Power of the DFT of `w·r` at `freq_hz` (also the Whittle periodogram's lowest ordinates,
+/// [`super::whittle`]).
+pub(super) fn dft_power(r: &[f64], window: &[f64], freq_hz: f64, rate_hz: f64) -> f64 {
     let step = TAU * freq_hz / rate_hz;
     let (mut c, mut s) = (0.0, 0.0);
     for (k, (v, w)) in r.iter().zip(window).enumerate() {

@@ -35,7 +35,7 @@ use super::SimgapError;
 use super::baseline::NoiseTerms;
 use super::greedy::OWN_NULL_LEVEL;
 use super::model::{member_seed, simulate};
-use super::whittle::{COLUMNS, Periodogram, columns, fit};
+use super::whittle::{COLUMNS, Periodogram, columns, fit, set_gauss_markov_column};
 use crate::model::rng::splitmix64;
 
 /// Null series simulated.
@@ -58,6 +58,9 @@ pub struct NestedTest {
     pub threshold: f64,
     /// Whether the recording's Λ lies beyond the threshold.
     pub passed: bool,
+    /// Whether another effect ranks better (then the test does not count; [`super::greedy`]'s
+    /// detector test has the same rule).
+    pub outranked: bool,
 }
 
 /// Correlation times tried, log-spaced …
@@ -84,12 +87,14 @@ pub fn gauss_markov_gain(
     let p = Periodogram::of(x)?;
     let from = start.floor_from_s;
     let initial = [(start.q / dt).powi(2), start.n * start.n / dt, start.b * start.b, start.k * start.k * dt, 0.0];
-    let plain = fit(&p, &columns(&p, dt, from, floor_to_s, None), [true, true, true, true, false], initial);
+    let mut cols = columns(&p, dt, from, floor_to_s);
+    let plain = fit(&p, &cols, [true, true, true, true, false], initial);
     let (lo, hi) = (GRID_MIN_SAMPLES * dt, (x.len() as f64 * dt / GRID_MAX_FRACTION).max(4.0 * dt));
     let mut best = plain.neg_log_likelihood;
     for g in 0..GRID {
         let corr = lo * (hi / lo).powf(g as f64 / (GRID - 1) as f64);
-        let with = fit(&p, &columns(&p, dt, from, floor_to_s, Some(corr)), [true; COLUMNS], plain.coefficients);
+        set_gauss_markov_column(&mut cols, &p, dt, corr);
+        let with = fit(&p, &cols, [true; COLUMNS], plain.coefficients);
         best = best.min(with.neg_log_likelihood);
     }
     let gain = 2.0 * (plain.neg_log_likelihood - best);
@@ -141,7 +146,7 @@ pub fn judge_gain(statistic: f64, null: &[f64]) -> NestedTest {
     let null_mean = if positive.is_empty() { ZERO_GAIN } else { positive.iter().sum::<f64>() / positive.len() as f64 };
     let positive_share = (1.0 - null_zero_share).max(1.0 / (null.len() + 1) as f64);
     let threshold = null_mean * (positive_share / (1.0 - OWN_NULL_LEVEL)).ln().max(0.0);
-    NestedTest { statistic, null_zero_share, null_mean, threshold, passed: statistic > threshold }
+    NestedTest { statistic, null_zero_share, null_mean, threshold, passed: statistic > threshold, outranked: false }
 }
 
 #[cfg(test)]

@@ -67,9 +67,8 @@ pub struct EffectResult {
     /// The test on the effect's own detector against its own null ([`super::greedy`]).
     pub detector: Option<DetectorTest>,
     /// The nested-model test of a stochastic effect against the baseline ([`super::nested`];
-    /// the Gauss–Markov process only), and whether another effect ranks better (then it does
-    /// not count).
-    pub nested: Option<(NestedTest, bool)>,
+    /// the Gauss–Markov process only).
+    pub nested: Option<NestedTest>,
 }
 
 impl EffectResult {
@@ -82,7 +81,7 @@ impl EffectResult {
     pub fn accepted_by_own_null(&self) -> bool {
         self.own_null_judgement.is_some_and(|j| j.explains)
             || self.detector.as_ref().is_some_and(|d| d.passed)
-            || self.nested.as_ref().is_some_and(|(t, outranked)| t.passed && !outranked)
+            || self.nested.as_ref().is_some_and(|t| t.passed && !t.outranked)
     }
 }
 

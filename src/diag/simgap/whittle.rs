@@ -25,6 +25,8 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{DMatrix, DVector};
 
 use super::SimgapError;
+use super::fit_spectral::dft_power;
+use super::robust::linear_fit;
 use crate::diag::fft::Fft;
 use crate::sim::terms::{flicker_poles, gauss_markov_averaged};
 
@@ -58,25 +60,20 @@ impl Periodogram {
         if n < need {
             return Err(SimgapError::TooShort { samples: n, need });
         }
-        let tapered = detrended_tapered(x);
-        let norm: f64 = taper(n).iter().map(|w| w * w).sum();
+        let residual = detrended(x);
+        let window = taper(n);
+        let norm: f64 = window.iter().map(|w| w * w).sum();
         let spacing = TAU / n as f64;
         let (mut omega, mut mean, mut weight) = (Vec::new(), Vec::new(), Vec::new());
         for k in 1..=SINGLE_ORDINATES {
-            let w = spacing * k as f64;
-            let (mut re, mut im) = (0.0, 0.0);
-            for (j, v) in tapered.iter().enumerate() {
-                let a = w * j as f64;
-                re += v * a.cos();
-                im -= v * a.sin();
-            }
-            omega.push(w);
-            mean.push((re * re + im * im) / norm);
+            // The DFT at k/n cycles per sample (a rate of one sample per unit time).
+            omega.push(spacing * k as f64);
+            mean.push(dft_power(&residual, &window, k as f64 / n as f64, 1.0) / norm);
             weight.push(1.0);
         }
         let padded = (2 * n).next_power_of_two();
         let fft = Fft::new(padded).ok_or_else(|| SimgapError::Numerical(format!("no FFT of length {padded}")))?;
-        let mut re = tapered;
+        let mut re: Vec<f64> = residual.iter().zip(&window).map(|(v, w)| v * w).collect();
         re.resize(padded, 0.0);
         let mut im = vec![0.0; padded];
         fft.forward(&mut re, &mut im);
@@ -109,19 +106,11 @@ fn taper(n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// `x` less its least-squares line, times the taper.
-fn detrended_tapered(x: &[f64]) -> Vec<f64> {
-    let n = x.len() as f64;
-    let t_mean = 0.5 * (n - 1.0);
-    let x_mean = x.iter().sum::<f64>() / n;
-    let (mut sxt, mut stt) = (0.0, 0.0);
-    for (j, v) in x.iter().enumerate() {
-        let t = j as f64 - t_mean;
-        sxt += t * (v - x_mean);
-        stt += t * t;
-    }
-    let slope = if stt > 0.0 { sxt / stt } else { 0.0 };
-    x.iter().zip(taper(x.len())).enumerate().map(|(j, (v, w))| w * (v - x_mean - slope * (j as f64 - t_mean))).collect()
+/// `x` less its least-squares line ([`super::robust::linear_fit`] against the sample index).
+fn detrended(x: &[f64]) -> Vec<f64> {
+    let index: Vec<f64> = (0..x.len()).map(|j| j as f64).collect();
+    let (slope, offset) = linear_fit(&index, x);
+    x.iter().zip(&index).map(|(v, j)| v - offset - slope * j).collect()
 }
 
 /// Spectral density (per-sample variance units, ω radians per sample) of a first-order
@@ -149,15 +138,9 @@ pub fn gauss_markov_spectrum(corr_s: f64, dt: f64, omega: f64) -> f64 {
 pub const COLUMNS: usize = 5;
 
 /// The columns gⱼ(ω) at the bins of `periodogram` (module docs): the flicker bank with its floor
-/// from `floor_from_s` to `floor_to_s` per unit B², and the Gauss–Markov process of `corr_s`
-/// (zeros without one).
-pub fn columns(
-    periodogram: &Periodogram,
-    dt: f64,
-    floor_from_s: f64,
-    floor_to_s: f64,
-    corr_s: Option<f64>,
-) -> Vec<[f64; COLUMNS]> {
+/// from `floor_from_s` to `floor_to_s` per unit B², and a zero Gauss–Markov column
+/// ([`set_gauss_markov_column`] fills it).
+pub fn columns(periodogram: &Periodogram, dt: f64, floor_from_s: f64, floor_to_s: f64) -> Vec<[f64; COLUMNS]> {
     let poles = flicker_poles(1.0, floor_from_s, floor_to_s, dt);
     periodogram
         .omega
@@ -165,9 +148,17 @@ pub fn columns(
         .map(|&w| {
             let s2 = 4.0 * (0.5 * w).sin().powi(2);
             let flicker: f64 = poles.iter().map(|&(v, c)| v * gauss_markov_spectrum(c, dt, w)).sum();
-            [s2, 1.0, flicker, 1.0 / s2, corr_s.map_or(0.0, |c| gauss_markov_spectrum(c, dt, w))]
+            [s2, 1.0, flicker, 1.0 / s2, 0.0]
         })
         .collect()
+}
+
+/// Sets the Gauss–Markov column of `cols` (from [`columns`]) to a unit-variance process of
+/// correlation time `corr_s`; the other columns stay.
+pub fn set_gauss_markov_column(cols: &mut [[f64; COLUMNS]], periodogram: &Periodogram, dt: f64, corr_s: f64) {
+    for (g, &w) in cols.iter_mut().zip(&periodogram.omega) {
+        g[COLUMNS - 1] = gauss_markov_spectrum(corr_s, dt, w);
+    }
 }
 
 /// A Whittle fit: the coefficients and the negative log-likelihood.
@@ -327,7 +318,7 @@ mod tests {
         };
         let x = simulate(&model, fs, len, None, 3).unwrap();
         let p = Periodogram::of(&x).unwrap();
-        let cols = columns(&p, 1.0 / fs, 1.0, len as f64 / fs, None);
+        let cols = columns(&p, 1.0 / fs, 1.0, len as f64 / fs);
         let f = fit(&p, &cols, [true, true, false, true, false], [0.0, 1.0, 0.0, 1.0, 0.0]);
         let white = n * n * fs;
         assert!((f.coefficients[1] / white - 1.0).abs() < 0.03, "{:?} vs {white}", f.coefficients);
