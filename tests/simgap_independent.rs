@@ -121,6 +121,28 @@ fn an_absorbed_gauss_markov_process_is_found_by_the_nested_test() {
     );
 }
 
+/// The oracle's evidence (tools/simgap/oracle.py, the upper bound the confusion matrix is binned
+/// by) reproduces its closed forms: the floor's block-mean covariance equals the samples'
+/// covariance summed over blocks (white, Gauss–Markov bank, rate random walk); a ramp and a
+/// sinusoid on white noise have z² = Σ(e − ē)²/σ² and nA²/(2σ²); a weak Gauss–Markov process has
+/// E[Λ] ≈ Σ(S_gm/S)². And every generated case carries it: a number, or null for quantisation.
+#[test]
+fn the_oracle_evidence_matches_its_closed_forms() {
+    if !numpy_or_skip("the_oracle_evidence_matches_its_closed_forms") {
+        return;
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/simgap/oracle.py");
+    let out = Command::new("python3").arg(script).output().expect("run python3");
+    assert!(out.status.success(), "oracle self-check: {}", String::from_utf8_lossy(&out.stderr));
+    let dir = tempfile::tempdir().unwrap();
+    let cases = generate(
+        dir.path(),
+        &["--first-seed", "11", "--per-class", "1", "--durations", "3000,3000", "--classes", "ramp,quantization"],
+    );
+    assert!(cases[0]["oracle_z"].as_f64().is_some_and(|z| z > 0.0), "{}", cases[0]);
+    assert!(cases[1]["oracle_z"].is_null(), "{}", cases[1]);
+}
+
 /// The report set of docs/evaluation.md ("Independent cases": `independent_cases.py DIR
 /// --first-seed 1 --per-class 3`, default diagnosis settings), on the classes it gets mostly right
 /// (sinusoid 3/3, quantization 3/3, spikes 2/3 measured) and the pure-IEEE control (3/3): each

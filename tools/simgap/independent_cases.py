@@ -61,6 +61,8 @@ import os
 
 import numpy as np
 
+from oracle import oracle_z
+
 TUNING_SEEDS = range(1000, 2000)
 REPORT_SEEDS = range(1, 1000)
 
@@ -244,12 +246,15 @@ def make_case(seed, klass, rates, durations, floors):
     temp = temperature_profile(rng, t, duration)
     x = floor_noise(rng, floor, n, fs) + rng.uniform(-1.0, 1.0)
     post = []
+    floor_model = floor_description(floor)
+    oracle = None
     if klass == "none":
         expected, info = "none", dict(sub="none", m=None, u=None, time_scale_s=None)
     elif klass == "outside":
         kind = str(rng.choice(["chirp", "noise_burst", "triangle"]))
         add, p, info = add_effect(rng, kind, t, fs, duration, s, temp)
         x += add
+        oracle = oracle_z(kind, add, info, floor_model, fs)
         expected = "outside"
     elif klass == "dominant":
         main = str(rng.choice(["warmup", "sinusoid", "ramp"]))
@@ -257,6 +262,7 @@ def make_case(seed, klass, rates, durations, floors):
         add, _, info = add_effect(rng, main, t, fs, duration, s, temp, strength="high")
         add2, _, info2 = add_effect(rng, second, t, fs, duration, s, temp, strength="low")
         x += add + add2
+        oracle = oracle_z(main, add, info, floor_model, fs)
         expected = main
         info = dict(info, sub=f"{main}+small_{second}", second=dict(info2, kind=second))
     else:
@@ -264,6 +270,7 @@ def make_case(seed, klass, rates, durations, floors):
         x += add
         if p is not None:
             post.append(p)
+        oracle = oracle_z(klass, add, info, floor_model, fs)
         expected = klass
     for p in post:
         x = p(x)
@@ -276,12 +283,20 @@ def make_case(seed, klass, rates, durations, floors):
         magnitude_bin=None if info.get("u") is None else bin_of(info["u"]),
         time_scale_s=info.pop("time_scale_s", None),
         params={k: v for k, v in info.items() if k != "u"},
+        oracle_z=oracle,
         floor=floor,
         floor_scale=s,
         rate_hz=fs,
         duration_s=duration,
         samples=n,
     )
+
+
+def floor_description(name):
+    """The floor's terms in deg/s units (the manifest's `floors` entry)."""
+    s = FLOORS[name]
+    bank = [] if name == "nominal_flat" else [[sg * s, tau] for sg, tau in GM_BANK]
+    return dict(scale=s, white_n=WHITE_N * s, gm_bank=bank, rrw_k=RRW_K * s)
 
 
 def write_csv(path, t, x, temp):
@@ -332,7 +347,7 @@ def main():
         generator="tools/simgap/independent_cases.py",
         seed_range="tuning" if tuning else "report",
         first_seed=a.first_seed,
-        floors={f: dict(scale=FLOORS[f], white_n=WHITE_N * FLOORS[f], gm_bank=[] if f == "nominal_flat" else [[sg * FLOORS[f], tau] for sg, tau in GM_BANK], rrw_k=RRW_K * FLOORS[f]) for f in floors},
+        floors={f: floor_description(f) for f in floors},
         cases=cases,
     )
     with open(os.path.join(a.out_dir, "manifest.json"), "w") as f:

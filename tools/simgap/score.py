@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Scores `gyrocomp simgap` on the cases of independent_cases.py (issue 16): runs the diagnosis on
 every case of a manifest and prints the confusion matrix per effect class, per magnitude bin and
-per sub-class.
+per sub-class (and, when the manifest has it, per oracle-evidence bin: oracle.py).
 
 Outcome of a case: the first chosen effect when the verdict is "explained" or "partly explained";
 `none` for "no significant gap"; `unexplained` otherwise. It is right when it equals the case's
@@ -62,6 +62,15 @@ def run_case(gyrocomp, case_dir, case, extra, keep=None):
     )
 
 
+def oracle_bin(case):
+    """The case's oracle evidence (oracle.py) as a bin: below 5 a test that knows the floor and the
+    effect exactly has less than a 5-sigma view of it."""
+    z = case.get("oracle_z")
+    if z is None:
+        return "oracle n/a"
+    return "oracle z < 5" if z < 5 else ("oracle z 5-10" if z < 10 else "oracle z >= 10")
+
+
 def table(title, rows, key):
     groups = collections.OrderedDict()
     for case, res in rows:
@@ -113,7 +122,8 @@ def main():
             results.append(r)
             mark = "ok " if r.get("correct") else "BAD"
             print(f"{mark} seed {c['seed']:>4} {c['klass']:<13} {c['sub']:<28} {c['floor']:<12} "
-                  f"{c['rate_hz']:>5.0f} Hz {c['duration_s']:>6.0f} s bin {str(c['magnitude_bin']):<5} -> "
+                  f"{c['rate_hz']:>5.0f} Hz {c['duration_s']:>6.0f} s bin {str(c['magnitude_bin']):<5} "
+                  f"z {'-' if c.get('oracle_z') is None else format(c['oracle_z'], '.1f'):>5} -> "
                   f"{r.get('outcome', 'ERROR')} ({r.get('verdict', r.get('error', ''))}; tried {r.get('tried')}) "
                   f"{r['seconds']:.1f} s", flush=True)
     rows = list(zip(cases, results))
@@ -123,6 +133,9 @@ def main():
     table("By effect class and magnitude bin", rows, lambda c: f"{c['klass']} {c['magnitude_bin'] or '-'}")
     table("By sub-class", rows, lambda c: c["sub"])
     table("By noise floor", rows, lambda c: c["floor"])
+    if any("oracle_z" in c for c in cases):
+        table("By effect class and oracle evidence (tools/simgap/oracle.py)", rows,
+              lambda c: f"{c['klass']} {oracle_bin(c)}")
     right = sum(1 for r in results if r.get("correct"))
     print(f"\nright: {right}/{len(results)}")
     if a.results:

@@ -23,8 +23,8 @@
 //! - **Effect detectors** — the fits of the effects, used as matched filters: the amplitude of the
 //!   best warm-up exponential from the part's start ([`super::fit_time::warmup_fit`], deg/s), the
 //!   strongest spectral line of the 1 s means against its neighbours (the full-length periodogram
-//!   of [`super::fit_spectral::LineSearch`], so lines down to four cycles per part are resolved,
-//!   log10), the strongest step of the jump detector in robust σ
+//!   of [`super::fit_spectral::LineSearch`] with the neighbours' reach: from the 17th bin of the
+//!   zero-padded periodogram, 9–17 cycles per part by its length; log10), the strongest step of the jump detector in robust σ
 //!   ([`super::fit_events::StepScores`], log10) and, when the recording has a temperature, the slope
 //!   of the rate on it ([`super::fit_time::temperature_slope`], deg/s/°C; every member sees the
 //!   recorded temperature).
@@ -33,7 +33,7 @@ use serde::Serialize;
 
 use super::SimgapError;
 use super::fit_events::StepScores;
-use super::fit_spectral::LineSearch;
+use super::fit_spectral::{LineSearch, Reach};
 use super::fit_time::{temperature_slope, warmup_fit};
 use super::robust::{block_means, kurtosis, linear_fit, median};
 use crate::diag::allan::{Taus, oadev};
@@ -405,7 +405,7 @@ impl StatLayout {
         out.push(warmup_fit(x, self.rate_hz).map_or(0.0, |(amplitude, _)| amplitude));
         let second = (self.rate_hz.round() as usize).max(1);
         let slow_rate = self.rate_hz / second as f64;
-        out.push(log10(LineSearch::of(&block_means(x, second), slow_rate).map_or(0.0, |l| l.ratio)));
+        out.push(log10(LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours).map_or(0.0, |l| l.ratio)));
         out.push(log10(StepScores::of(x, self.rate_hz).map_or(0.0, |s| s.strongest())));
         if self.temperature {
             let temp = temp_c.filter(|t| t.len() == x.len()).ok_or(SimgapError::NoTemperature)?;
