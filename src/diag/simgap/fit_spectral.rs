@@ -4,15 +4,15 @@
 //!    of two; its periodogram |X\[k]|² ([`crate::diag::fft`]).
 //! 2. The line is the bin with the largest ratio to the median of the 32 bins around it, among
 //!    frequencies with at least four cycles in the part (the slow wander of the bias is red, so the
-//!    largest *power* would always be the lowest bin). That needs 16 bins below the candidate, so
-//!    lines of fewer than 9–17 cycles in the part (by the zero padding) are not searched ([`Reach::Neighbours`], the
-//!    ensemble's `slow_line` statistic). The fit searches down to [`SLOW_MIN_CYCLES`]
-//!    ([`Reach::SlowLines`]): below the 17th bin the background comes from the 32 bins from the
-//!    2nd on beyond the candidate's main lobe ([`low_bin_background`]: their median carried along
-//!    the local power law), since a red floor is locally a power law. The statistic keeps the
-//!    narrower reach: there a floor whose red part bends (a Gauss–Markov bank's corner) against
-//!    the simulated IEEE terms made a "line" of a few cycles stand out on a tuning case of
-//!    quantisation, and the sinusoid was then kept beside it.
+//!    largest *power* would always be the lowest bin). That needs 16 bins below the candidate,
+//!    so lines of fewer than 9–17 cycles in the part (by the zero padding) are not searched
+//!    ([`Reach::Neighbours`], the ensemble's `slow_line` statistic). The fit searches down to
+//!    [`SLOW_MIN_CYCLES`] ([`Reach::SlowLines`]): below the 17th bin the background comes from
+//!    the 32 bins from the 2nd on beyond the candidate's main lobe ([`low_bin_background`]: their
+//!    median carried along the local power law), since a red floor is locally a power law. The
+//!    statistic keeps the narrower reach: there a floor whose red part bends (a Gauss–Markov
+//!    bank's corner) against the simulated IEEE terms made a "line" of a few cycles stand out on
+//!    a tuning case of quantisation, and the sinusoid was then kept beside it.
 //! 3. Its frequency is refined by a golden-section search of the windowed DFT power within ±1 bin,
 //!    then amplitude and phase come from least squares on sin/cos at that frequency.
 
@@ -56,8 +56,9 @@ fn low_bin_background(power: &[f64], k: usize, guard: usize) -> f64 {
     let centre = |b: &[usize]| median(&b.iter().map(|&j| j as f64).collect::<Vec<_>>());
     // A gyro's floor does not rise with frequency below its quantisation corner, and falls no
     // faster than a rate random walk (f⁻²) or a Gauss–Markov process past its corner: a
-    // rising estimate is the halves' sampling error (a pure-floor tuning control reached a
-    // "line" 250× its background that way), and clamped it can only raise the background.
+    // rising estimate is the halves' sampling error (a pure-floor control, report seed 789 of
+    // the independent generator, reached a "line" 250× its background that way), and clamped
+    // the law can only raise the background.
     let exponent = ((level(upper) / level(lower)).ln() / (centre(upper) / centre(lower)).ln()).clamp(-2.0, 0.0);
     median(&bins.iter().map(|&j| power[j] * (k as f64 / j as f64).powf(exponent)).collect::<Vec<_>>())
 }
