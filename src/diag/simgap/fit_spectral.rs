@@ -8,7 +8,7 @@
 //!    so lines of fewer than 9–17 cycles in the part (by the zero padding) are not searched
 //!    ([`Reach::Neighbours`], the ensemble's `slow_line` statistic). The fit searches down to
 //!    [`SLOW_MIN_CYCLES`] ([`Reach::SlowLines`]): below the 17th bin the background comes from
-//!    the 32 bins from the 2nd on beyond the candidate's main lobe ([`low_bin_background`]: their
+//!    the 32 bins from the 2nd on beyond the candidate's main lobe (`low_bin_background`: their
 //!    median carried along the local power law), since a red floor is locally a power law. The
 //!    statistic keeps the narrower reach: there a floor whose red part bends (a Gauss–Markov
 //!    bank's corner) against the simulated IEEE terms made a "line" of a few cycles stand out on
@@ -34,7 +34,7 @@ pub const SLOW_MIN_CYCLES: f64 = 6.0;
 /// How far down in frequency a [`LineSearch`] looks (module docs, step 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Reach {
-    /// Bins with 16 neighbours on each side only (and [`MIN_CYCLES`]).
+    /// Bins with 16 neighbours on each side only (and at least four cycles).
     Neighbours,
     /// Also the bins below, down to [`SLOW_MIN_CYCLES`], against the local power law.
     SlowLines,
