@@ -100,19 +100,17 @@ def spectral_gls_z(effect, floor, fs):
     return math.sqrt(z2)
 
 
-def gauss_markov_z(sigma, tau, floor, fs, n):
+def added_noise_z(extra, floor, fs, n):
+    """sqrt E[Lambda] of the Whittle ratio for a stationary noise of spectral density `extra`
+    (a function of omega) added to the floor, over the Fourier frequencies of n samples."""
     omega = 2.0 * math.pi * np.arange(1, n // 2) / n
     s2 = 4.0 * np.sin(0.5 * omega) ** 2
-    s0 = differenced_floor_spectrum(floor, fs, omega)
-    r = 1.0 + s2 * gauss_markov_spectrum(sigma, tau, 1.0 / fs, omega) / s0
+    r = 1.0 + s2 * extra(omega) / differenced_floor_spectrum(floor, fs, omega)
     return math.sqrt(2.0 * np.sum(r - 1.0 - np.log(r)))
 
 
-def noise_burst_z(extra_white_var, floor, fs, samples):
-    omega = 2.0 * math.pi * np.arange(1, samples // 2) / samples
-    s2 = 4.0 * np.sin(0.5 * omega) ** 2
-    r = 1.0 + s2 * extra_white_var / differenced_floor_spectrum(floor, fs, omega)
-    return math.sqrt(2.0 * np.sum(r - 1.0 - np.log(r)))
+def gauss_markov_z(sigma, tau, floor, fs, n):
+    return added_noise_z(lambda omega: gauss_markov_spectrum(sigma, tau, 1.0 / fs, omega), floor, fs, n)
 
 
 def oracle_z(kind, effect, info, floor, fs):
@@ -125,7 +123,7 @@ def oracle_z(kind, effect, info, floor, fs):
     if kind == "noise_burst":
         inside = effect != 0.0
         extra = float(np.var(effect[inside])) if inside.any() else 0.0
-        return noise_burst_z(extra, floor, fs, int(inside.sum()))
+        return added_noise_z(lambda omega: np.full_like(omega, extra), floor, fs, int(inside.sum()))
     fast = kind == "spikes" or (kind == "sinusoid" and info.get("frequency_hz", 0.0) > FAST_HZ)
     return spectral_gls_z(effect, floor, fs) if fast else block_gls_z(effect, floor, fs)
 

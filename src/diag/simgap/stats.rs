@@ -24,10 +24,11 @@
 //!   best warm-up exponential from the part's start ([`super::fit_time::warmup_fit`], deg/s), the
 //!   strongest spectral line of the 1 s means against its neighbours (the full-length periodogram
 //!   of [`super::fit_spectral::LineSearch`] with the neighbours' reach: from the 17th bin of the
-//!   zero-padded periodogram, 9–17 cycles per part by its length; log10), the strongest step of the jump detector in robust σ
-//!   ([`super::fit_events::StepScores`], log10) and, when the recording has a temperature, the slope
-//!   of the rate on it ([`super::fit_time::temperature_slope`], deg/s/°C; every member sees the
-//!   recorded temperature).
+//!   zero-padded periodogram, 9–17 cycles per part by its length; log10), the strongest step of
+//!   the jump detector in robust σ ([`super::fit_events::StepScores`], log10) and, when the
+//!   recording has a temperature, the slope of the rate on it
+//!   ([`super::fit_time::temperature_slope`], deg/s/°C; every member sees the recorded
+//!   temperature).
 
 use serde::Serialize;
 
