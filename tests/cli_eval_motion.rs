@@ -132,6 +132,26 @@ fn a_ramp_drift_is_tracked_by_the_predictors_and_not_by_bias_hold() {
         let gated = model(&report, &format!("{name}-gated"));
         assert!(num(m, "angle_err_deg_median") > 5.0 * num(gated, "angle_err_deg_median"), "{m} {gated}");
     }
+    // The motion judgement is scored for the pipeline models only; the ungated predictors judge
+    // nothing moving, so every motion is missed and all its rotation leaks; with the publisher's
+    // flags nothing leaks and every motion is found at once.
+    let motions = report["data"]["segments"].as_f64().unwrap();
+    for m in report["models"].as_array().unwrap() {
+        let d = &m["detection"];
+        match m["name"].as_str().unwrap() {
+            "bias-hold" | "last-static" | "highpass" => assert!(d.is_null(), "{m}"),
+            name => assert_eq!(num(d, "motions"), motions, "{name}: {d}"),
+        }
+    }
+    let ungated = &model(&report, "persistence")["detection"];
+    assert_eq!((num(ungated, "missed"), num(ungated, "false_alarms")), (motions, 0.0), "{ungated}");
+    assert_eq!(num(ungated, "leaked_samples"), num(ungated, "moving_samples"), "{ungated}");
+    let oracle = &flagged["detection"];
+    assert_eq!(
+        (num(oracle, "missed"), num(oracle, "leaked_samples"), num(oracle, "delay_s_p95")),
+        (0.0, 0.0, 0.0),
+        "{oracle}"
+    );
 }
 
 #[test]

@@ -20,6 +20,7 @@ use super::progress::Progress;
 use crate::config::Config;
 use crate::eval::motion::MotionScores;
 use crate::eval::{BaselineSettings, MotionModel, MotionRun, run_motion_model};
+use crate::eval::{DetectionScores, detection_scores};
 use crate::io::{ReadOptions, Recording, read_columns};
 use crate::model::metrics::quantile;
 
@@ -57,6 +58,9 @@ struct ModelRow {
     scores: MotionScores,
     detail: String,
     seconds: f64,
+    /// How the pipeline's motion judgement did against the truth ([`crate::eval::detection`]);
+    /// `null` for the baselines that run no pipeline.
+    detection: Option<DetectionScores>,
 }
 
 /// Runs the motion-injected protocol.
@@ -85,7 +89,14 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
             .map_err(|e| format!("model `{kind}`: {e}"))?;
         bar.finish();
         let scores = run.score(&out.compensated)?;
-        rows.push(ModelRow { name: kind, scores, detail: out.detail, seconds: started.elapsed().as_secs_f64() });
+        let detection = out.judged_moving.as_deref().map(|judged| detection_scores(&run, judged)).transpose()?;
+        rows.push(ModelRow {
+            name: kind,
+            scores,
+            detail: out.detail,
+            seconds: started.elapsed().as_secs_f64(),
+            detection,
+        });
     }
     let arw = run.sensor_arw();
     let floor = arw.map(|n| run.white_noise_floor(n)).unwrap_or_default();
@@ -158,5 +169,35 @@ fn print_table(info: &DataInfo, rows: &[ModelRow]) {
             r.seconds,
             r.detail
         );
+    }
+    if rows.iter().any(|r| r.detection.is_some()) {
+        println!();
+        println!("Motion judgement of the pipeline models against the truth (leaked: moving samples judged static;");
+        println!("false alarm: a moving judgement that overlaps no motion; held: static samples judged moving).");
+        println!(
+            "{:<18} {:>9} {:>11} {:>11} {:>15} {:>13} {:>13} {:>13}",
+            "model",
+            "missed",
+            "delay med s",
+            "delay p95 s",
+            "leaked samples",
+            "leaked deg",
+            "false alarms",
+            "held static"
+        );
+        for r in rows {
+            let Some(d) = &r.detection else { continue };
+            println!(
+                "{:<18} {:>9} {:>11} {:>11} {:>15} {:>13.2} {:>13} {:>13}",
+                r.name.name(),
+                format!("{}/{}", d.missed, d.motions),
+                opt(d.delay_s_median),
+                opt(d.delay_s_p95),
+                format!("{}/{}", d.leaked_samples, d.moving_samples),
+                d.leaked_angle_deg_total,
+                format!("{} ({:.2}/h)", d.false_alarms, d.false_alarms_per_h),
+                format!("{}/{}", d.static_held_moving, d.static_samples),
+            );
+        }
     }
 }

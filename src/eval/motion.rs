@@ -154,6 +154,16 @@ impl MotionRun {
         self.t_s.is_empty()
     }
 
+    /// Time of each sample, s.
+    pub fn t_s(&self) -> &[f64] {
+        &self.t_s
+    }
+
+    /// Integration step of each sample, Δt_i = t_i − t_{i−1} (the first takes the first interval), s.
+    pub fn dt(&self) -> &[f64] {
+        &self.dt
+    }
+
     /// The raw rate, deg/s.
     pub fn raw(&self) -> &[f64] {
         &self.raw

@@ -41,6 +41,7 @@ use crate::config::Config;
 use crate::drive::{BuildError, build_pipeline, offline_config, run_pipeline};
 use crate::model::baselines::{Ar, PersistenceModel};
 use crate::model::scaler::MinMaxScaler;
+use crate::stream::sample::STATUS_MOVING;
 use crate::stream::{DetectorKind, EstimatorKind, FLAG_MOVING, InputSample, Pipeline, Trainer};
 
 /// A model of the motion-injected protocol (module documentation).
@@ -145,6 +146,10 @@ pub struct ModelOutput {
     pub compensated: Vec<f64>,
     /// What ran (models installed, samples gated, …).
     pub detail: String,
+    /// The pipeline's judgement of each sample (`STATUS_MOVING` of its output: detector alarm,
+    /// publisher flag or hold-off), for the models that run the pipeline; `None` for the
+    /// baselines computed without it.
+    pub judged_moving: Option<Vec<bool>>,
 }
 
 /// Why a model could not run.
@@ -203,15 +208,19 @@ pub fn run_motion_model(
         MotionModel::BiasHold => {
             let b = run.bias_hold(baselines.startup_s)?;
             let detail = format!("mean of the first {} samples: {:.6} deg/s", b.samples, b.bias_dps);
-            return Ok(ModelOutput { compensated: b.compensated, detail });
+            return Ok(ModelOutput { compensated: b.compensated, detail, judged_moving: None });
         }
         MotionModel::LastStatic => {
             let detail = format!("mean of the last {LAST_STATIC_S} s of samples flagged static");
-            return Ok(ModelOutput { compensated: run.last_static(moving, LAST_STATIC_S)?, detail });
+            return Ok(ModelOutput {
+                compensated: run.last_static(moving, LAST_STATIC_S)?,
+                detail,
+                judged_moving: None,
+            });
         }
         MotionModel::Highpass => {
             let detail = format!("first-order RC, cutoff {} Hz", baselines.highpass_hz);
-            return Ok(ModelOutput { compensated: run.highpass(baselines.highpass_hz)?, detail });
+            return Ok(ModelOutput { compensated: run.highpass(baselines.highpass_hz)?, detail, judged_moving: None });
         }
         _ => {}
     }
@@ -223,8 +232,10 @@ pub fn run_motion_model(
         InputSample { flags, ..*s }
     });
     let mut compensated = Vec::with_capacity(inputs.len());
+    let mut judged_moving = Vec::with_capacity(inputs.len());
     let done = run_pipeline(&mut p, stream, |i, out| {
         compensated.push(out.rate_dps[0]);
+        judged_moving.push(out.status & STATUS_MOVING != 0);
         progress(i + 1);
     });
     let s = done.stats;
@@ -233,5 +244,5 @@ pub fn run_motion_model(
         "{gate}, {} samples held as moving, {} models installed, {} fits failed",
         s.moving, s.models_installed, s.retrain_failed
     );
-    Ok(ModelOutput { compensated, detail })
+    Ok(ModelOutput { compensated, detail, judged_moving: Some(judged_moving) })
 }
