@@ -5,7 +5,8 @@
 //! under `CI=true` (where .ci/run installs numpy) it fails instead.
 //!
 //! Asserted: pure-IEEE recordings (the floor alone) get "no significant gap"; a Gauss–Markov
-//! process the IEEE terms absorb is found by the nested-model test; and (ignored by
+//! process the IEEE terms absorb is found by the nested-model test; a ramp is not named a
+//! warm-up whose time constant the data do not bound; and (ignored by
 //! default, heavy) on the report set of docs/evaluation.md "Independent cases" the classes named
 //! right there stay at their measured counts minus a margin.
 
@@ -119,6 +120,29 @@ fn an_absorbed_gauss_markov_process_is_found_by_the_nested_test() {
         doc["verdict"],
         doc["chosen"]
     );
+}
+
+/// A ramp (report seed 649, the generator's "ramp": +0.17 deg/s over 3,906 s at 10 Hz on its
+/// nominal floor): the warm-up fit sits at the longest time constant of its grid (the training
+/// part's length) and scored a little better than the ramp, so the ninth session named a warm-up.
+/// The unbounded exponential is now ranked after the ramp (src/diag/simgap/greedy.rs, "parsimony
+/// at the warm-up grid's edge"), and the ramp is named.
+#[test]
+fn a_ramp_is_not_named_a_warm_up_whose_time_constant_the_data_do_not_bound() {
+    if !numpy_or_skip("a_ramp_is_not_named_a_warm_up_whose_time_constant_the_data_do_not_bound") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cases = generate(dir.path(), &["--first-seed", "649", "--per-class", "1", "--classes", "ramp"]);
+    let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+    let effect = |name: &str| doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == name).unwrap().clone();
+    let (warmup, ramp) = (effect("warmup"), effect("ramp"));
+    let train_s = doc["train_samples"].as_f64().unwrap() / doc["rate_hz"].as_f64().unwrap();
+    let tc = warmup["params"]["time_constant_s"].as_f64().unwrap();
+    assert!((tc - train_s).abs() < 1e-6 * train_s, "the warm-up fit is bounded here: {tc} s of {train_s} s");
+    let mean_score = |e: &Value| 0.5 * (e["log_score"].as_f64().unwrap() + e["log_score_holdout"].as_f64().unwrap());
+    assert!(mean_score(&warmup) < mean_score(&ramp), "the warm-up no longer scores better: {warmup} {ramp}");
+    assert_eq!(doc["chosen"].get(0).and_then(Value::as_str), Some("ramp"), "{}: {}", doc["verdict"], doc["chosen"]);
 }
 
 /// The oracle's evidence (tools/simgap/oracle.py, the upper bound the confusion matrix is binned

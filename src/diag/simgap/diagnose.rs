@@ -21,11 +21,12 @@ use super::builder::ModelBuilder;
 use super::effects::{TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::detect_grid;
-use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, removes_most};
+use super::fit_time::warmup_unbounded;
+use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, ramp_before_unbounded_warmup, removes_most};
 use super::model::SimModel;
 use super::naming::naming_order;
 use super::nested::gauss_markov_test;
-use super::params::{EffectKind, Fitted, FittedEffect};
+use super::params::{EffectKind, EffectParams, Fitted, FittedEffect};
 use super::stats::StatLayout;
 use super::uncertainty::bootstrap;
 
@@ -166,6 +167,11 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         let score = |e: &EffectResult| e.evaluation.as_ref().map_or(f64::INFINITY, Evaluation::mean_log_score);
         score(a).total_cmp(&score(b))
     });
+    let unbounded = |e: &EffectResult| match e.params {
+        Some(EffectParams::Warmup { time_constant_s, .. }) => warmup_unbounded(time_constant_s, n_train, rate_hz),
+        _ => false,
+    };
+    ramp_before_unbounded_warmup(&mut effects, |e| e.kind, unbounded);
     // The detector route names only the best-ranked effect: a slow bias motion also correlates
     // with the temperature, or looks like the start of a warm-up, so a matched filter of another
     // effect may pass by what the best one explains.

@@ -56,6 +56,15 @@ pub fn warmup_fit(x: &[f64], rate_hz: f64) -> Option<(f64, f64)> {
     Some((best.1, best.2))
 }
 
+/// Whether a fitted warm-up time constant is the grid's longest, the length of the part of
+/// `part_samples` samples at `rate_hz` ([`warmup_fit`]): the data do not bound it, and over the
+/// part the exponential is a ramp whose curvature the fit cannot pin (the ranking then prefers the
+/// ramp, [`super::greedy::ramp_before_unbounded_warmup`]).
+pub fn warmup_unbounded(time_constant_s: f64, part_samples: usize, rate_hz: f64) -> bool {
+    let longest = part_samples as f64 / rate_hz * WARMUP_RANGE.1;
+    time_constant_s >= longest * (1.0 - 1e-9)
+}
+
 /// Warm-up (see [`warmup_fit`]), with its shape on the training samples.
 pub fn fit_warmup(x: &[f64], rate_hz: f64) -> Fitted {
     let Some((amplitude, tc)) = warmup_fit(x, rate_hz) else {
