@@ -136,7 +136,7 @@ fn the_detector_finds_turns_at_once_and_keeps_false_alarms_rare() {
     let t_s: Vec<f64> = inputs.iter().map(|s| s.t_ns as f64 * 1e-9).collect();
     let run = MotionRun::new(t_s, raw, truth.clone(), &moving).unwrap();
     let d = detection_scores(&run, &flagged).unwrap();
-    let turned: f64 = truth.iter().map(|t| t.abs() * 0.1).sum();
+    let turned: f64 = truth.iter().zip(run.dt()).map(|(t, dt)| t.abs() * dt).sum();
     eprintln!(
         "missed {}/{}, delay median {:?} p95 {:?} s, leaked {} samples, {:.1} of {turned:.0} deg; false alarms {} ({:.2}/h)",
         d.missed,

@@ -32,6 +32,11 @@ def run(cmd):
     return r.stdout
 
 
+def empty_detection():
+    """An accumulator of gyrocomp's `detection` figures (eval JSON) over runs."""
+    return dict(motions=0, missed=0, delays=[], moving=0, leaked=0, leaked_deg=[], false_alarms=0, hours=0.0)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("recordings", nargs="+")
@@ -70,7 +75,7 @@ def main():
                 row = {"recording": base, "profile": prof, "seed": seed, "floor": statistics.median(floor) if floor else None}
                 d = by.get("gyrocomp", {}).get("detection")
                 if d:
-                    acc = det.setdefault((base, prof), dict(motions=0, missed=0, delays=[], moving=0, leaked=0, leaked_deg=[], false_alarms=0, hours=0.0))
+                    acc = det.setdefault((base, prof), empty_detection())
                     acc["motions"] += d["motions"]
                     acc["missed"] += d["missed"]
                     acc["delays"] += d["delays_s"]
@@ -102,13 +107,10 @@ def main():
     if det:
         print("\ngyrocomp's motion judgement against the truth (delay: first sample judged moving; leaked: moving samples judged static):")
         print(f"{'recording':<28} {'profile':<6} {'missed':>10} {'delay med s':>11} {'delay p95 s':>11} {'leaked':>8} {'leaked deg/motion':>17} {'false alarms/h':>14}")
-        def empty():
-            return dict(motions=0, missed=0, delays=[], moving=0, leaked=0, leaked_deg=[], false_alarms=0, hours=0.0)
-
         pooled_det = {}  # ("pooled", profile) and ("pooled", "all")
         for (base, prof), acc in det.items():
             for key in (("pooled", prof), ("pooled", "all")):
-                total = pooled_det.setdefault(key, empty())
+                total = pooled_det.setdefault(key, empty_detection())
                 for k in total:
                     total[k] += acc[k]
         for key, acc in list(det.items()) + list(pooled_det.items()):
