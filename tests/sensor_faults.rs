@@ -128,7 +128,7 @@ fn infinite_or_implausible_temperatures_never_reach_the_temperature_term() {
     assert_eq!(bad.stats().input.bad_temperature, counted);
     assert_eq!(none.stats().input.bad_temperature, 0);
     assert_eq!(bad.warm_state(), none.warm_state());
-    assert!(bad.warm_state().iter().all(|w| w.temperature.is_some_and(|t| t.iter().all(|v| v.is_finite()))));
+    assert!(bad.warm_state().iter().all(|w| w.temperature.is_some_and(|t| t.values().iter().all(|v| v.is_finite()))));
 }
 
 #[test]

@@ -54,6 +54,9 @@ pub struct Decision {
     /// Newest pending samples to discard (the motion began before it was detected); the older
     /// pending samples are committed at once. 0 with `moving` false: nothing happens to them.
     pub discard: usize,
+    /// Of `discard`, the span the motion is estimated to have lasted (the rest is the guard
+    /// before it): what the pipeline discards instead while no reference is committed yet.
+    pub onset: usize,
     /// Whether the pending queue is flushed (committed or discarded) on this sample.
     pub flush: bool,
     /// The drift estimate is wrong and must be relearnt: the detector has been "moving" on its

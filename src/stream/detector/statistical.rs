@@ -440,7 +440,8 @@ impl MotionDetector for StatisticalDetector {
                 self.counters.onsets += 1;
                 // Look back: discard the span the motion is estimated to have lasted (the
                 // publisher knows its own onsets: nothing to discard for a flag alone).
-                decision.discard = fired.map_or(0, |n| n + self.guard);
+                decision.onset = fired.unwrap_or(0);
+                decision.discard = decision.onset + if fired.is_some() { self.guard } else { 0 };
             }
             decision.flush = !was_moving;
             for ring in &mut self.rings {

@@ -194,6 +194,10 @@ impl DriftEstimator for HybridForecast {
         self.trajectory_of = None;
     }
 
+    fn has_reference(&self) -> bool {
+        self.tracker.has_reference()
+    }
+
     /// The tracker relearns; the block means, learnt against the same wrong reference, are
     /// dropped with it.
     fn relearn(&mut self) {

@@ -27,7 +27,7 @@ use std::sync::Arc;
 use serde::Deserialize;
 
 pub(crate) use hybrid::HybridForecast;
-pub use kalman::{KalmanBias, KalmanCounters};
+pub use kalman::{KalmanBias, KalmanCounters, TEMPERATURE_EVIDENCE};
 pub(crate) use model_forecast::ModelForecast;
 pub use startup_hold::StartupHold;
 
@@ -106,6 +106,10 @@ pub trait DriftEstimator: fmt::Debug + Send {
 
     /// Restores what [`DriftEstimator::warm`] copied.
     fn restore(&mut self, warm: &AxisWarm);
+
+    /// Whether a committed static sample backs the estimate: false at start-up and after
+    /// [`DriftEstimator::relearn`], while only the pending samples' mean stands in.
+    fn has_reference(&self) -> bool;
 
     /// Forgets the estimate: the detector found it wrong ([`Decision::relearn`]); the next
     /// commits start afresh (and until then the pending samples' mean stands in, as at
@@ -187,8 +191,9 @@ pub struct DriftConfig {
     pub innovation_gate: f64,
     /// bias-hold: seconds of start-up static samples averaged.
     pub startup_s: f64,
-    /// Kalman: learn a temperature coefficient (bias = b + c·(T − T₀)) when samples carry a
-    /// temperature.
+    /// Kalman: when samples carry a temperature, run a filter with a temperature coefficient
+    /// (bias = b + c·(T − T₀)) beside the scalar one, used once the data favour it
+    /// ([`TEMPERATURE_EVIDENCE`]).
     pub temperature: bool,
 }
 

@@ -120,6 +120,10 @@ impl DriftEstimator for ModelForecast {
         self.steps
     }
 
+    fn has_reference(&self) -> bool {
+        self.bias_count > 0
+    }
+
     fn warm(&self, warm: &mut AxisWarm) {
         warm.denoiser_window = self.denoiser.window_samples().to_vec();
         warm.history = self.history.as_slice().to_vec();

@@ -54,6 +54,10 @@ impl DriftEstimator for StartupHold {
         self.span_samples = (self.startup_s / period_s).round().max(1.0) as u64;
     }
 
+    fn has_reference(&self) -> bool {
+        self.count > 0
+    }
+
     fn warm(&self, warm: &mut AxisWarm) {
         warm.bias = if self.count > 0 { self.sum / self.count as f64 } else { 0.0 };
         warm.bias_count = self.count;

@@ -349,7 +349,16 @@ impl Pipeline {
     }
 
     /// Applies a detector's look-back: on an onset the newest `discard` pending samples are
-    /// dropped and the older ones committed.
+    /// dropped and the older ones committed. When that would discard every pending sample while
+    /// no estimator has a committed reference yet (start-up, or after a relearn), only the
+    /// motion's estimated span is discarded, without the guard before it, and the oldest pending
+    /// sample is always kept: otherwise nothing would be committed, the estimate would fall
+    /// back to the mean of the samples that follow (moving ones), and the detector, with no
+    /// reference to test against, would call them static. Seen on an independently generated
+    /// quiet floor whose first turn began 1.1 s in: the estimate locked onto the turn's 20 deg/s
+    /// plateau for the rest of the run. (Without the guard an early false alarm, whose span is
+    /// short, keeps most of the start-up samples; applied to every onset without a reference,
+    /// it let the lead-in of slow rotations after a relearn into the estimate on ADIS run 1.)
     fn settle_pending(&mut self, decision: Decision) {
         if decision.relearn {
             let dropped = self.queue.drop_newest(self.queue.len());
@@ -367,7 +376,13 @@ impl Pipeline {
         if !decision.flush {
             return;
         }
-        self.stats.discarded += self.queue.drop_newest(decision.discard) as u64;
+        let len = self.queue.len();
+        let discard = if decision.discard < len || self.axes.iter().all(|a| a.estimator.has_reference()) {
+            decision.discard
+        } else {
+            decision.onset.min(len.saturating_sub(1))
+        };
+        self.stats.discarded += self.queue.drop_newest(discard) as u64;
         while let Some((i, r, t)) = self.queue.pop_oldest() {
             self.commit(i, &r, t);
         }

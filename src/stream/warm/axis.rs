@@ -23,9 +23,9 @@ pub struct AxisWarm {
     pub variance: f64,
     /// Kalman: sample index of the last committed sample.
     pub last_commit: u64,
-    /// Kalman temperature term, once a temperature was committed: coefficient c (deg/s/°C),
-    /// Cov(b, c), Var(c) and T₀ (°C).
-    pub temperature: Option<[f64; 4]>,
+    /// Kalman temperature filter, once a temperature was committed (`bias` and `variance`
+    /// above are the scalar filter's).
+    pub temperature: Option<TemperatureWarm>,
     /// Kalman: the last finite temperature seen (°C), which stands in for a sample without one.
     pub last_temp_c: Option<f64>,
     /// The axis' self-calibration (online Allan variance, running σ).
@@ -41,6 +41,35 @@ pub struct AxisWarm {
     pub drift_std: f64,
 }
 
+/// The Kalman tracker's temperature filter (state (b, c), measurement b + c·(T − T₀)) and the
+/// evidence that decides whether it drives the output (`stream::drift::kalman`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct TemperatureWarm {
+    /// Bias b at T₀, deg/s.
+    pub bias: f64,
+    /// Var(b), (deg/s)².
+    pub variance: f64,
+    /// Temperature coefficient c, deg/s per °C.
+    pub coef: f64,
+    /// Cov(b, c).
+    pub cov_bc: f64,
+    /// Var(c).
+    pub var_c: f64,
+    /// T₀, °C.
+    pub reference_c: f64,
+    /// Log Bayes factor of this filter against the scalar one.
+    pub evidence: f64,
+    /// Whether this filter drives the output.
+    pub in_use: bool,
+}
+
+impl TemperatureWarm {
+    /// Its real values, for a finiteness check.
+    pub fn values(&self) -> [f64; 7] {
+        [self.bias, self.variance, self.coef, self.cov_bc, self.var_c, self.reference_c, self.evidence]
+    }
+}
+
 impl AxisWarm {
     /// Whether every value is finite.
     pub fn is_finite(&self) -> bool {
@@ -48,9 +77,9 @@ impl AxisWarm {
         self.variance >= 0.0
             && self.drift_std >= 0.0
             && self.noise.is_valid()
+            && self.temperature.iter().flat_map(TemperatureWarm::values).all(f64::is_finite)
             && [self.bias, self.drift, self.comp]
                 .iter()
-                .chain(self.temperature.iter().flatten())
                 .chain(self.last_temp_c.iter())
                 .chain(&self.denoiser_window)
                 .chain(&self.history)

@@ -8,7 +8,7 @@ mod axis;
 
 use serde::{Deserialize, Serialize};
 
-pub use axis::AxisWarm;
+pub use axis::{AxisWarm, TemperatureWarm};
 
 use super::detector::DetectorState;
 use super::input_check::InputState;
