@@ -194,8 +194,9 @@ impl KalmanBias {
         }
     }
 
-    /// The temperature filter's commit of `raw` at offset `d` after its time update to `p`:
-    /// the innovation ν_T and its variance S_T, and whether the gate refuses it; updates unless so.
+    /// The temperature filter's time update over `dk` samples and its commit of `raw` at
+    /// T − T₀ = `d`: returns the innovation ν_T, its variance S_T and whether the gate refused
+    /// it (the state is updated unless so).
     fn commit_with_temperature(&mut self, raw: f64, d: f64, dk: f64) -> (f64, f64, bool) {
         let f = &mut self.with_temp;
         let p = f.variance + self.q * dk;
@@ -277,9 +278,17 @@ impl DriftEstimator for KalmanBias {
             return;
         }
         if self.with_temp.reference_c.is_none() && with_reading {
-            // The first temperature seen: it becomes T₀ (the bias so far is at T₀).
-            self.with_temp.reference_c = Some(self.temp_c);
-            self.with_temp.var_c = TEMPERATURE_PRIOR * self.r;
+            // The first temperature seen: it becomes T₀ (the bias so far is at T₀), and the
+            // temperature filter starts from the scalar one's state (until now it would have been
+            // the same filter: T − T₀ = 0), with the prior on c.
+            self.with_temp = TemperatureFilter {
+                bias: self.bias,
+                variance: self.variance,
+                coef: 0.0,
+                cov_bc: 0.0,
+                var_c: TEMPERATURE_PRIOR * self.r,
+                reference_c: Some(self.temp_c),
+            };
         }
         let dk = index.saturating_sub(self.last_index) as f64;
         self.last_index = index;
@@ -287,13 +296,15 @@ impl DriftEstimator for KalmanBias {
         let s = p + self.r;
         let nu = raw - self.bias;
         let gated = nu * nu / s > self.gate_nis;
-        let (nu_t, s_t, gated_t) = if self.temperature {
+        // Without a temperature so far the two filters are one: the second is not run.
+        let two = self.with_temp.reference_c.is_some();
+        let (nu_t, s_t, gated_t) = if two {
             let d = self.temperature_offset();
             self.commit_with_temperature(raw, d, dk)
         } else {
             (nu, s, gated)
         };
-        if self.temperature && !gated && !gated_t {
+        if two && !gated && !gated_t {
             self.evidence += log_density(nu_t, s_t) - log_density(nu, s);
             if !self.temp_in_use && self.evidence > TEMPERATURE_EVIDENCE {
                 self.temp_in_use = true;
@@ -346,8 +357,8 @@ impl DriftEstimator for KalmanBias {
         warm.last_commit = self.last_index;
     }
 
-    /// Without a stored temperature filter (none had a T₀ yet) it restarts as a copy of the
-    /// scalar one, as it was.
+    /// Without a stored temperature filter (none had a T₀ yet) it starts afresh from the scalar
+    /// one at the first commit that carries a temperature.
     fn restore(&mut self, warm: &AxisWarm) {
         self.bias = warm.bias;
         self.variance = warm.variance;
@@ -364,9 +375,8 @@ impl DriftEstimator for KalmanBias {
                 (self.evidence, self.temp_in_use) = (t.evidence, t.in_use);
             }
             None => {
-                // Var(c) is set with T₀, at the first commit that carries a temperature.
-                self.with_temp =
-                    TemperatureFilter { bias: warm.bias, variance: warm.variance, ..TemperatureFilter::new() };
+                // It starts from the scalar filter at the first commit that carries a temperature.
+                self.with_temp = TemperatureFilter::new();
                 (self.evidence, self.temp_in_use) = (0.0, false);
             }
         }
