@@ -46,12 +46,24 @@ fn diagnose(dir: &Path, case: &Value, extra: &[&str]) -> Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
+/// One report case of `class` from `seed`, generated into `dir` and diagnosed on two threads: the
+/// case's manifest entry and the JSON document.
+fn one_case(dir: &Path, seed: &str, class: &str) -> (Value, Value) {
+    let cases = generate(dir, &["--first-seed", seed, "--per-class", "1", "--classes", class]);
+    let doc = diagnose(dir, &cases[0], &["--threads", "2"]);
+    (cases[0].clone(), doc)
+}
+
+/// The effect a diagnosis document names first, if any.
+fn named_first(doc: &Value) -> Option<&str> {
+    doc["chosen"].get(0).and_then(Value::as_str)
+}
+
 /// What the diagnosis names first (tools/simgap/score.py's rule), with `extra` arguments.
 fn outcome(dir: &Path, case: &Value, extra: &[&str]) -> String {
     let doc = diagnose(dir, case, extra);
     let verdict = doc["verdict"].as_str().unwrap();
-    let named = doc["chosen"].get(0).and_then(Value::as_str);
-    match (verdict, named) {
+    match (verdict, named_first(&doc)) {
         ("explained" | "partly_explained", Some(k)) => k.to_owned(),
         ("no_significant_gap", _) => "none".to_owned(),
         _ => "unexplained".to_owned(),
@@ -82,9 +94,8 @@ fn a_warm_up_is_named_before_the_small_spikes_beside_it() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let cases = generate(dir.path(), &["--first-seed", "763", "--per-class", "1", "--classes", "dominant"]);
-    assert_eq!(cases[0]["sub"], "warmup+small_spikes");
-    let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+    let (case, doc) = one_case(dir.path(), "763", "dominant");
+    assert_eq!(case["sub"], "warmup+small_spikes");
     let names = |key: &str| -> Vec<String> {
         doc[key].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect()
     };
@@ -105,21 +116,14 @@ fn an_absorbed_gauss_markov_process_is_found_by_the_nested_test() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let cases = generate(dir.path(), &["--first-seed", "842", "--per-class", "1", "--classes", "gauss_markov"]);
-    let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+    let (_, doc) = one_case(dir.path(), "842", "gauss_markov");
     let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
     assert!(!significant("train") && !significant("holdout"), "the baseline alone shows a gap: {}", doc["before"]);
     let gm = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "gauss_markov").unwrap();
     let nested = &gm["nested"];
     assert_eq!(nested["passed"], true, "{nested}");
     assert!(nested["statistic"].as_f64().unwrap() > 2.0 * nested["threshold"].as_f64().unwrap(), "{nested}");
-    assert_eq!(
-        doc["chosen"].get(0).and_then(Value::as_str),
-        Some("gauss_markov"),
-        "{}: {}",
-        doc["verdict"],
-        doc["chosen"]
-    );
+    assert_eq!(named_first(&doc), Some("gauss_markov"), "{}: {}", doc["verdict"], doc["chosen"]);
 }
 
 /// A ramp (report seed 649, the generator's "ramp": +0.17 deg/s over 3,906 s at 10 Hz on its
@@ -133,8 +137,7 @@ fn a_ramp_is_not_named_a_warm_up_whose_time_constant_the_data_do_not_bound() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let cases = generate(dir.path(), &["--first-seed", "649", "--per-class", "1", "--classes", "ramp"]);
-    let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+    let (_, doc) = one_case(dir.path(), "649", "ramp");
     let effect = |name: &str| doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == name).unwrap().clone();
     let (warmup, ramp) = (effect("warmup"), effect("ramp"));
     let train_s = doc["train_samples"].as_f64().unwrap() / doc["rate_hz"].as_f64().unwrap();
@@ -142,7 +145,7 @@ fn a_ramp_is_not_named_a_warm_up_whose_time_constant_the_data_do_not_bound() {
     assert!((tc - train_s).abs() < 1e-6 * train_s, "the warm-up fit is bounded here: {tc} s of {train_s} s");
     let mean_score = |e: &Value| 0.5 * (e["log_score"].as_f64().unwrap() + e["log_score_holdout"].as_f64().unwrap());
     assert!(mean_score(&warmup) < mean_score(&ramp), "the warm-up no longer scores better: {warmup} {ramp}");
-    assert_eq!(doc["chosen"].get(0).and_then(Value::as_str), Some("ramp"), "{}: {}", doc["verdict"], doc["chosen"]);
+    assert_eq!(named_first(&doc), Some("ramp"), "{}: {}", doc["verdict"], doc["chosen"]);
 }
 
 /// The oracle's evidence (tools/simgap/oracle.py, the upper bound the confusion matrix is binned

@@ -440,8 +440,9 @@ impl MotionDetector for StatisticalDetector {
                 self.counters.onsets += 1;
                 // Look back: discard the span the motion is estimated to have lasted (the
                 // publisher knows its own onsets: nothing to discard for a flag alone).
-                decision.onset = fired.unwrap_or(0);
-                decision.discard = decision.onset + if fired.is_some() { self.guard } else { 0 };
+                if let Some(n) = fired {
+                    (decision.onset, decision.discard) = (n, n + self.guard);
+                }
             }
             decision.flush = !was_moving;
             for ring in &mut self.rings {

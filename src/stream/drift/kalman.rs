@@ -87,25 +87,6 @@ const TEMPERATURE_PRIOR: f64 = 100.0;
 /// reported ones.
 pub const TEMPERATURE_EVIDENCE: f64 = std::f64::consts::LN_10;
 
-/// The two-state (bias, temperature coefficient) filter of a [`KalmanBias`].
-#[derive(Debug, Clone, Copy)]
-struct TemperatureFilter {
-    bias: f64,
-    variance: f64,
-    /// Temperature coefficient c, deg/s per °C, its covariance with the bias and its variance.
-    coef: f64,
-    cov_bc: f64,
-    var_c: f64,
-    /// T₀, °C (`None` until a commit carried a temperature).
-    reference_c: Option<f64>,
-}
-
-impl TemperatureFilter {
-    fn new() -> Self {
-        Self { bias: 0.0, variance: f64::INFINITY, coef: 0.0, cov_bc: 0.0, var_c: 0.0, reference_c: None }
-    }
-}
-
 /// Random-walk bias tracker of one axis (module documentation).
 #[derive(Debug, Clone)]
 pub struct KalmanBias {
@@ -114,12 +95,9 @@ pub struct KalmanBias {
     variance: f64,
     /// Whether the temperature term is allowed (`[drift] temperature`).
     temperature: bool,
-    /// The two-state filter run beside the scalar one when `temperature` is set.
-    with_temp: TemperatureFilter,
-    /// ln BF of the temperature filter against the scalar one (module documentation).
-    evidence: f64,
-    /// Whether the temperature filter drives the output.
-    temp_in_use: bool,
+    /// The two-state filter run beside the scalar one, its evidence and whether it drives the
+    /// output; `None` until a commit carried a temperature (the two are one filter until then).
+    with_temp: Option<TemperatureWarm>,
     /// Temperature of the sample the next predict or commit refers to (NaN: none seen yet).
     temp_c: f64,
     /// The last finite temperature set: a sample without one (NaN mid-stream) is taken to be
@@ -141,9 +119,7 @@ impl KalmanBias {
             bias: 0.0,
             variance: f64::INFINITY,
             temperature,
-            with_temp: TemperatureFilter::new(),
-            evidence: 0.0,
-            temp_in_use: false,
+            with_temp: None,
             temp_c: f64::NAN,
             last_temp_c: None,
             last_index: 0,
@@ -178,18 +154,18 @@ impl KalmanBias {
     /// The temperature coefficient c (deg/s per °C) and T₀ of the temperature filter, once a
     /// temperature was committed (whether or not that filter drives the output).
     pub fn temperature_coefficient(&self) -> Option<(f64, f64)> {
-        self.with_temp.reference_c.map(|t0| (self.with_temp.coef, t0))
+        self.with_temp.map(|f| (f.coef, f.reference_c))
     }
 
     /// Whether the temperature filter drives the output, and the log Bayes factor behind it.
     pub fn temperature_evidence(&self) -> (bool, f64) {
-        (self.temp_in_use, self.evidence)
+        self.with_temp.map_or((false, 0.0), |f| (f.in_use, f.evidence))
     }
 
     /// T − T₀ of the current sample: 0 without the term, a temperature or a reference.
     fn temperature_offset(&self) -> f64 {
-        match self.with_temp.reference_c {
-            Some(t0) if self.temperature && self.temp_c.is_finite() => self.temp_c - t0,
+        match self.with_temp {
+            Some(f) if self.temperature && self.temp_c.is_finite() => self.temp_c - f.reference_c,
             _ => 0.0,
         }
     }
@@ -197,8 +173,7 @@ impl KalmanBias {
     /// The temperature filter's time update over `dk` samples and its commit of `raw` at
     /// T − T₀ = `d`: returns the innovation ν_T, its variance S_T and whether the gate refused
     /// it (the state is updated unless so).
-    fn commit_with_temperature(&mut self, raw: f64, d: f64, dk: f64) -> (f64, f64, bool) {
-        let f = &mut self.with_temp;
+    fn commit_with_temperature(&self, f: &mut TemperatureWarm, raw: f64, d: f64, dk: f64) -> (f64, f64, bool) {
         let p = f.variance + self.q * dk;
         // h = [1, d]: P·hᵀ = (P_bb + d·P_bc, P_bc + d·P_cc), S = h·P·hᵀ + R.
         let ph = [p + d * f.cov_bc, f.cov_bc + d * f.var_c];
@@ -233,8 +208,7 @@ impl DriftEstimator for KalmanBias {
         self.recalibrate(noise);
         if self.variance.is_finite() {
             let dk = now.saturating_sub(self.last_index) as f64;
-            if self.temp_in_use {
-                let f = &self.with_temp;
+            if let Some(f) = self.with_temp.filter(|f| f.in_use) {
                 let p = f.variance + self.q * dk;
                 let d = self.temperature_offset();
                 // Var(b + c·d) = P_bb + 2d·P_bc + d²·P_cc.
@@ -260,35 +234,30 @@ impl DriftEstimator for KalmanBias {
             // No noise figure yet (cannot happen after a commit fed the calibration first).
             return;
         }
-        let with_reading = self.temperature && self.temp_c.is_finite();
-        if !self.variance.is_finite() {
+        let first = !self.variance.is_finite();
+        if first {
             self.bias = raw;
             self.variance = self.r;
             self.last_index = index;
-            self.with_temp = TemperatureFilter {
-                bias: raw,
-                variance: self.r,
-                coef: 0.0,
-                cov_bc: 0.0,
-                var_c: TEMPERATURE_PRIOR * self.r,
-                reference_c: with_reading.then_some(self.temp_c),
-            };
-            self.evidence = 0.0;
-            self.temp_in_use = false;
-            return;
+            self.with_temp = None;
         }
-        if self.with_temp.reference_c.is_none() && with_reading {
+        if self.with_temp.is_none() && self.temperature && self.temp_c.is_finite() {
             // The first temperature seen: it becomes T₀ (the bias so far is at T₀), and the
             // temperature filter starts from the scalar one's state (until now it would have been
             // the same filter: T − T₀ = 0), with the prior on c.
-            self.with_temp = TemperatureFilter {
+            self.with_temp = Some(TemperatureWarm {
                 bias: self.bias,
                 variance: self.variance,
                 coef: 0.0,
                 cov_bc: 0.0,
                 var_c: TEMPERATURE_PRIOR * self.r,
-                reference_c: Some(self.temp_c),
-            };
+                reference_c: self.temp_c,
+                evidence: 0.0,
+                in_use: false,
+            });
+        }
+        if first {
+            return;
         }
         let dk = index.saturating_sub(self.last_index) as f64;
         self.last_index = index;
@@ -297,25 +266,26 @@ impl DriftEstimator for KalmanBias {
         let nu = raw - self.bias;
         let gated = nu * nu / s > self.gate_nis;
         // Without a temperature so far the two filters are one: the second is not run.
-        let two = self.with_temp.reference_c.is_some();
-        let (nu_t, s_t, gated_t) = if two {
+        let (mut nu_out, mut s_out, mut gated_out) = (nu, s, gated);
+        if let Some(mut f) = self.with_temp {
             let d = self.temperature_offset();
-            self.commit_with_temperature(raw, d, dk)
-        } else {
-            (nu, s, gated)
-        };
-        if two && !gated && !gated_t {
-            self.evidence += log_density(nu_t, s_t) - log_density(nu, s);
-            if !self.temp_in_use && self.evidence > TEMPERATURE_EVIDENCE {
-                self.temp_in_use = true;
-                tracing::debug!(evidence = self.evidence, index, "the temperature term now drives the drift");
-            } else if self.temp_in_use && self.evidence < 0.0 {
-                self.temp_in_use = false;
-                tracing::debug!(evidence = self.evidence, index, "the temperature term no longer drives the drift");
+            let (nu_t, s_t, gated_t) = self.commit_with_temperature(&mut f, raw, d, dk);
+            if !gated && !gated_t {
+                f.evidence += log_density(nu_t, s_t) - log_density(nu, s);
+                if !f.in_use && f.evidence > TEMPERATURE_EVIDENCE {
+                    f.in_use = true;
+                    tracing::debug!(evidence = f.evidence, index, "the temperature term now drives the drift");
+                } else if f.in_use && f.evidence < 0.0 {
+                    f.in_use = false;
+                    tracing::debug!(evidence = f.evidence, index, "the temperature term no longer drives the drift");
+                }
             }
+            if f.in_use {
+                // The counters follow the filter that drives the output.
+                (nu_out, s_out, gated_out) = (nu_t, s_t, gated_t);
+            }
+            self.with_temp = Some(f);
         }
-        // The counters follow the filter that drives the output.
-        let (nu_out, s_out, gated_out) = if self.temp_in_use { (nu_t, s_t, gated_t) } else { (nu, s, gated) };
         self.counters.nis_sum += nu_out * nu_out / s_out;
         self.counters.nis_count += 1;
         if gated_out {
@@ -341,17 +311,7 @@ impl DriftEstimator for KalmanBias {
     fn warm(&self, warm: &mut AxisWarm) {
         warm.bias = self.bias;
         warm.variance = self.variance;
-        let f = &self.with_temp;
-        warm.temperature = f.reference_c.map(|t0| TemperatureWarm {
-            bias: f.bias,
-            variance: f.variance,
-            coef: f.coef,
-            cov_bc: f.cov_bc,
-            var_c: f.var_c,
-            reference_c: t0,
-            evidence: self.evidence,
-            in_use: self.temp_in_use,
-        });
+        warm.temperature = self.with_temp;
         warm.last_temp_c = self.last_temp_c;
         warm.bias_count = self.counters.commits;
         warm.last_commit = self.last_index;
@@ -362,24 +322,7 @@ impl DriftEstimator for KalmanBias {
     fn restore(&mut self, warm: &AxisWarm) {
         self.bias = warm.bias;
         self.variance = warm.variance;
-        match warm.temperature {
-            Some(t) => {
-                self.with_temp = TemperatureFilter {
-                    bias: t.bias,
-                    variance: t.variance,
-                    coef: t.coef,
-                    cov_bc: t.cov_bc,
-                    var_c: t.var_c,
-                    reference_c: Some(t.reference_c),
-                };
-                (self.evidence, self.temp_in_use) = (t.evidence, t.in_use);
-            }
-            None => {
-                // It starts from the scalar filter at the first commit that carries a temperature.
-                self.with_temp = TemperatureFilter::new();
-                (self.evidence, self.temp_in_use) = (0.0, false);
-            }
-        }
+        self.with_temp = warm.temperature;
         self.counters.commits = warm.bias_count;
         self.last_index = warm.last_commit;
         self.last_temp_c = warm.last_temp_c;
@@ -392,8 +335,7 @@ impl DriftEstimator for KalmanBias {
 
     fn relearn(&mut self) {
         self.variance = f64::INFINITY;
-        self.with_temp = TemperatureFilter::new();
-        (self.evidence, self.temp_in_use) = (0.0, false);
+        self.with_temp = None;
     }
 
     fn kalman_counters(&self) -> Option<KalmanCounters> {

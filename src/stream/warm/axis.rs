@@ -42,7 +42,8 @@ pub struct AxisWarm {
 }
 
 /// The Kalman tracker's temperature filter (state (b, c), measurement b + c·(T − T₀)) and the
-/// evidence that decides whether it drives the output (`stream::drift::kalman`).
+/// evidence that decides whether it drives the output (`stream::drift::kalman`): the tracker's
+/// own state, copied as it is into a snapshot.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct TemperatureWarm {
     /// Bias b at T₀, deg/s.
