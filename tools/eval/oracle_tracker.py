@@ -34,9 +34,13 @@ instead of the manifest's: a non-negative least-squares fit of the Allan varianc
 the static series, motion cut out) to white noise, rate random walk and Gauss-Markov processes at
 fixed correlation times (FITTED_TAUS_S), on relative residuals. The fit sees the whole file, so it is
 not causal: the figure says how close a multi-time-scale tracker whose model is measured on the unit
-could come to the exact-model bound, not what a causal one reaches.
+could come to the exact-model bound. With `--refit-s S` as well the fit is causal: the model is
+refitted every S seconds of static samples on the static samples seen so far (Gauss-Markov states
+at all of FITTED_TAUS_S, silent until a fit gives them noise; before the first fit white noise from
+the first differences and no drift noise): the prototype of such a tracker.
 
-Usage: tools/eval/oracle_tracker.py DIR MANIFEST [--profiles turns,mixed] [--column gx_dps] [--fitted]
+Usage: tools/eval/oracle_tracker.py DIR [MANIFEST] [--profiles turns,mixed] [--column gx_dps]
+                                    [--fitted [--refit-s 120]] [--json]
 """
 import argparse
 import glob
@@ -88,28 +92,37 @@ def fitted_floor(e, moving, dt):
     return dict(white_n=math.sqrt(c[0]), rrw_k=math.sqrt(c[1]), gm_bank=bank)
 
 
-def oracle_drift(e, moving, dt, floor):
-    """One-step drift predictions of the exact-model Kalman filter, and its mean NIS on static samples."""
-    bank = floor["gm_bank"]
-    n = 1 + len(bank)
-    phi = np.array([1.0] + [math.exp(-dt / tau) for _, tau in bank])
-    q = np.array([floor["rrw_k"] ** 2 * dt] + [s * s * (1.0 - math.exp(-2.0 * dt / tau)) for s, tau in bank])
-    r = floor["white_n"] ** 2 / dt
-    x = np.zeros(n)
-    P = np.diag([BIAS_PRIOR_VAR] + [s * s for s, _ in bank])
+def model_noise(model, taus, dt):
+    """Per-step process noise of the states [bias, Gauss-Markov at `taus`] and the white variance of
+    a floor description (a Gauss-Markov term at a time constant not in `taus` is an error)."""
+    q = np.zeros(1 + len(taus))
+    q[0] = model["rrw_k"] ** 2 * dt
+    for sigma, tau in model["gm_bank"]:
+        q[1 + list(taus).index(tau)] = sigma * sigma * (1.0 - math.exp(-2.0 * dt / tau))
+    return q, max(model["white_n"] ** 2 / dt, 1e-300)
+
+
+def kalman_drift(e, moving, dt, taus, q, r, p0, refit=None):
+    """One-step drift predictions H x_{k|k-1} of the filter with states [bias, Gauss-Markov at `taus`]
+    (updated on static samples only), and its mean NIS. `refit(k)`, called before each static
+    update, may return a new (q, r)."""
+    phi = np.concatenate([[1.0], np.exp(-dt / np.asarray(taus, dtype=float))])
     F = np.diag(phi)
-    Q = np.diag(q)
+    x = np.zeros(phi.size)
+    P = np.diag(p0)
     drift = np.empty(e.size)
     nis = 0.0
     updates = 0
     for k in range(e.size):
         if k:
             x = phi * x
-            P = F @ P @ F.T + Q
+            P = F @ P @ F.T + np.diag(q)
         pred = x.sum()
         drift[k] = pred
         if moving[k]:
             continue
+        if refit is not None:
+            (q, r) = refit(k) or (q, r)
         hp = P.sum(axis=1)  # P H', H = [1, 1, ...]
         s = hp.sum() + r
         nu = e[k] - pred
@@ -119,6 +132,35 @@ def oracle_drift(e, moving, dt, floor):
         x = x + gain * nu
         P = P - np.outer(gain, hp)
     return drift, nis / max(updates, 1)
+
+
+def oracle_drift(e, moving, dt, floor):
+    """The filter with a fixed model (the manifest's exact floor, or one fitted in hindsight)."""
+    taus = [tau for _, tau in floor["gm_bank"]]
+    q, r = model_noise(floor, taus, dt)
+    return kalman_drift(e, moving, dt, taus, q, r, [BIAS_PRIOR_VAR] + [s * s for s, _ in floor["gm_bank"]])
+
+
+def causal_drift(e, moving, dt, refit_s):
+    """The filter with its model refitted every `refit_s` seconds of static samples, on the static
+    samples before the current one (the Gauss-Markov states at FITTED_TAUS_S, zero noise until a
+    fit gives them some); before the first fit: white noise from the first differences, no drift
+    noise (a growing mean)."""
+    static = np.where(~moving)[0]
+    first = e[static[:64]]
+    q = np.zeros(1 + len(FITTED_TAUS_S))
+    r = max(float(np.var(np.diff(first))) / 2.0, 1e-300)
+    every = max(int(round(refit_s / dt)), 1)
+    seen = np.cumsum(~moving)
+
+    def refit(k):
+        if seen[k] % every or seen[k] < 64:
+            return None
+        return model_noise(fitted_floor(e[:k], moving[:k], dt), FITTED_TAUS_S, dt)
+
+    p0 = np.zeros(1 + len(FITTED_TAUS_S))
+    p0[0] = BIAS_PRIOR_VAR
+    return kalman_drift(e, moving, dt, FITTED_TAUS_S, q, r, p0, refit)
 
 
 def angle_errors(e, drift, dt, segs):
@@ -133,6 +175,8 @@ def main():
     ap.add_argument("--column", default="gx_dps")
     ap.add_argument("--startup-s", type=float, default=60.0)
     ap.add_argument("--fitted", action="store_true", help="the filter's model fitted to each file's static samples")
+    ap.add_argument("--refit-s", type=float, default=None,
+                    help="with --fitted: refit causally every this many seconds of static samples")
     ap.add_argument("--json", action="store_true", help="print the pooled figures as one JSON line as well")
     a = ap.parse_args()
     if a.manifest:
@@ -160,9 +204,13 @@ def main():
             nis_all = []
             for path in files:
                 e, moving, dt, segs = motions(path, a.column)
-                model = fitted_floor(e, moving, dt) if a.fitted else floors[base]
+                if a.fitted and a.refit_s:
+                    model = fitted_floor(e, moving, dt)  # for the floor column only
+                    drift, nis = causal_drift(e, moving, dt, a.refit_s)
+                else:
+                    model = fitted_floor(e, moving, dt) if a.fitted else floors[base]
+                    drift, nis = oracle_drift(e, moving, dt, model)
                 floor = floors[base] or model
-                drift, nis = oracle_drift(e, moving, dt, model)
                 nis_all.append(nis)
                 cell["oracle"] += angle_errors(e, drift, dt, segs)
                 start = segs[0][0] if segs else e.size
