@@ -108,6 +108,7 @@ def kalman_drift(e, moving, dt, taus, q, r, p0, refit=None):
     update, may return a new (q, r)."""
     phi = np.concatenate([[1.0], np.exp(-dt / np.asarray(taus, dtype=float))])
     F = np.diag(phi)
+    Q = np.diag(q)
     x = np.zeros(phi.size)
     P = np.diag(p0)
     drift = np.empty(e.size)
@@ -116,13 +117,15 @@ def kalman_drift(e, moving, dt, taus, q, r, p0, refit=None):
     for k in range(e.size):
         if k:
             x = phi * x
-            P = F @ P @ F.T + np.diag(q)
+            P = F @ P @ F.T + Q
         pred = x.sum()
         drift[k] = pred
         if moving[k]:
             continue
-        if refit is not None:
-            (q, r) = refit(k) or (q, r)
+        new = refit(k) if refit is not None else None
+        if new is not None:
+            q, r = new
+            Q = np.diag(q)
         hp = P.sum(axis=1)  # P H', H = [1, 1, ...]
         s = hp.sum() + r
         nu = e[k] - pred
@@ -179,6 +182,8 @@ def main():
                     help="with --fitted: refit causally every this many seconds of static samples")
     ap.add_argument("--json", action="store_true", help="print the pooled figures as one JSON line as well")
     a = ap.parse_args()
+    if a.refit_s and not a.fitted:
+        ap.error("--refit-s refits the fitted model: give --fitted as well")
     if a.manifest:
         with open(a.manifest) as f:
             manifest = json.load(f)
@@ -204,13 +209,12 @@ def main():
             nis_all = []
             for path in files:
                 e, moving, dt, segs = motions(path, a.column)
-                if a.fitted and a.refit_s:
-                    model = fitted_floor(e, moving, dt)  # for the floor column only
+                fit = fitted_floor(e, moving, dt) if a.fitted else None
+                if a.refit_s:
                     drift, nis = causal_drift(e, moving, dt, a.refit_s)
                 else:
-                    model = fitted_floor(e, moving, dt) if a.fitted else floors[base]
-                    drift, nis = oracle_drift(e, moving, dt, model)
-                floor = floors[base] or model
+                    drift, nis = oracle_drift(e, moving, dt, fit or floors[base])
+                floor = floors[base] or fit
                 nis_all.append(nis)
                 cell["oracle"] += angle_errors(e, drift, dt, segs)
                 start = segs[0][0] if segs else e.size
@@ -238,6 +242,7 @@ def main():
     if a.json:
         rms = {m: float(np.sqrt(np.mean(np.square(pooled[m])))) for m in models}
         print(json.dumps(dict(motions=len(pooled["floor"]), median_deg=med, rms_deg=rms, nis_mean_per_file=nis_files)))
+
 
 if __name__ == "__main__":
     main()
