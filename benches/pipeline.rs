@@ -10,7 +10,8 @@
 //! per sample and per sample per axis (criterion reports means and medians only).
 //!
 //! `process_3axes_default_kalman_statistical` is the default path (issue 13: Kalman tracker behind
-//! the statistical detector); the same p50/p99 loop runs for it.
+//! the statistical detector); `process_3axes_adaptive_statistical` the `adaptive` estimator (the
+//! scalar and the multi-scale trackers side by side); the same p50/p99 loop runs for both.
 //!
 //! Run: `cargo bench --bench pipeline`. Targets: ≤ 5 µs p99 per sample per axis (CPSO-LSSVM),
 //! ≤ 2 µs for the default path.
@@ -35,6 +36,8 @@ struct Setup {
     bare: Pipeline,
     /// The default path: Kalman tracker behind the statistical detector, rate from timestamps.
     default: Pipeline,
+    /// The `adaptive` estimator behind the statistical detector.
+    adaptive: Pipeline,
     next: u64,
 }
 
@@ -47,12 +50,16 @@ fn setup() -> Setup {
     let mut fitted = Pipeline::new(c.pipeline().unwrap()).unwrap();
     let mut bare = Pipeline::new(c.pipeline().unwrap()).unwrap();
     let mut default = Pipeline::new(Config::default().pipeline().unwrap()).unwrap();
+    let mut adaptive_config = Config::default();
+    adaptive_config.drift.kind = gyrocomp::stream::EstimatorKind::Adaptive;
+    let mut adaptive = Pipeline::new(adaptive_config.pipeline().unwrap()).unwrap();
     let warm = 5000;
     for (k, r) in rates[..warm].iter().enumerate() {
         let s = InputSample::new(k as u64, k as u64 * PERIOD_NS, *r);
         fitted.process(&s);
         bare.process(&s);
         default.process(&s);
+        adaptive.process(&s);
     }
     let fit = c.cpso_lssvm().unwrap();
     let started = Instant::now();
@@ -71,7 +78,7 @@ fn setup() -> Setup {
         fitted.install_model(axis, Arc::new(model), scaler, 1).unwrap();
     }
     eprintln!("three CPSO-LSSVM fits: {:.2} s", started.elapsed().as_secs_f64());
-    Setup { rates, fitted, bare, default, next: warm as u64 }
+    Setup { rates, fitted, bare, default, adaptive, next: warm as u64 }
 }
 
 impl Setup {
@@ -118,6 +125,12 @@ fn bench(c: &mut Criterion) {
             s.default.process(black_box(&x))
         })
     });
+    group.bench_function("process_3axes_adaptive_statistical", |b| {
+        b.iter(|| {
+            let x = s.sample();
+            s.adaptive.process(black_box(&x))
+        })
+    });
     group.bench_function("process_3axes_no_model", |b| {
         b.iter(|| {
             let x = s.sample();
@@ -128,11 +141,17 @@ fn bench(c: &mut Criterion) {
     assert_eq!(s.fitted.model_version(), 1);
 
     let n = 200_000;
-    for (name, default_path) in [("CPSO-LSSVM w4000", false), ("default: Kalman + statistical detector", true)] {
+    for (name, path) in
+        [("CPSO-LSSVM w4000", 0), ("default: Kalman + statistical detector", 1), ("adaptive + statistical detector", 2)]
+    {
         let mut times = Vec::with_capacity(n);
         for _ in 0..n {
             let x = s.sample();
-            let p = if default_path { &mut s.default } else { &mut s.fitted };
+            let p = match path {
+                0 => &mut s.fitted,
+                1 => &mut s.default,
+                _ => &mut s.adaptive,
+            };
             let t0 = Instant::now();
             black_box(p.process(black_box(&x)));
             times.push(t0.elapsed().as_nanos() as f64);

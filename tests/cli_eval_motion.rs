@@ -13,13 +13,14 @@ mod common;
 
 use common::ok as gyrocomp;
 
-const NAMES: [&str; 11] = [
+const NAMES: [&str; 12] = [
     "gyrocomp",
     "gyrocomp-flagged",
     "bias-hold",
     "last-static",
     "cpso-lssvm",
     "hybrid",
+    "multiscale",
     "persistence",
     "ar",
     "highpass",

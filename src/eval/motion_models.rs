@@ -11,6 +11,7 @@
 //! | `gyrocomp-flagged` | the same | the same, plus the file's `moving` column as the publisher's flag (an oracle: it says what the detector has to guess) |
 //! | `cpso-lssvm` | the paper's CPSO-LSSVM forecaster | the configured detector |
 //! | `hybrid` | the Kalman tracker, plus a CPSO-LSSVM forecast of its 10 s block means while moving | the configured detector |
+//! | `multiscale` | the multi-scale tracker (random-walk bias plus a fitted Gauss–Markov bank) | the configured detector |
 //! | `persistence` | x̃\[t] = the newest denoised sample | none (the `none` detector): it sees the whole stream |
 //! | `ar` | AR(p), order by AIC ≤ 20, refitted on the retrain schedule | none (the `none` detector) |
 //! | `persistence-gated`, `ar-gated` | the same models | the configured detector, as gyrocomp (what the detector alone is worth) |
@@ -62,6 +63,8 @@ pub enum MotionModel {
     /// The pipeline with the `hybrid` estimator (the Kalman tracker plus the paper's model as a
     /// forecaster of the bias trajectory while moving) behind the configured detector.
     Hybrid,
+    /// The pipeline with the `multiscale` estimator behind the configured detector.
+    Multiscale,
     /// Persistence of the denoised stream, no gate.
     Persistence,
     /// AR(p) on the denoised stream, no gate.
@@ -76,13 +79,14 @@ pub enum MotionModel {
 
 impl MotionModel {
     /// Every model, in table order.
-    pub const ALL: [Self; 11] = [
+    pub const ALL: [Self; 12] = [
         Self::Gyrocomp,
         Self::GyrocompFlagged,
         Self::BiasHold,
         Self::LastStatic,
         Self::CpsoLssvm,
         Self::Hybrid,
+        Self::Multiscale,
         Self::Persistence,
         Self::Ar,
         Self::Highpass,
@@ -99,6 +103,7 @@ impl MotionModel {
             Self::LastStatic => "last-static",
             Self::CpsoLssvm => "cpso-lssvm",
             Self::Hybrid => "hybrid",
+            Self::Multiscale => "multiscale",
             Self::Persistence => "persistence",
             Self::Ar => "ar",
             Self::Highpass => "highpass",
@@ -174,9 +179,13 @@ fn pipeline(model: MotionModel, config: &Config) -> Result<Pipeline, BuildError>
     }
     let mut p = match model {
         MotionModel::Gyrocomp | MotionModel::GyrocompFlagged => return build_pipeline(config),
-        MotionModel::CpsoLssvm | MotionModel::Hybrid => {
+        MotionModel::CpsoLssvm | MotionModel::Hybrid | MotionModel::Multiscale => {
             let mut c = config.clone();
-            c.drift.kind = if model == MotionModel::Hybrid { EstimatorKind::Hybrid } else { EstimatorKind::CpsoLssvm };
+            c.drift.kind = match model {
+                MotionModel::Hybrid => EstimatorKind::Hybrid,
+                MotionModel::Multiscale => EstimatorKind::Multiscale,
+                _ => EstimatorKind::CpsoLssvm,
+            };
             return build_pipeline(&c);
         }
         _ => Pipeline::new(settings)?,

@@ -25,15 +25,15 @@
 //!
 //! Blocks never straddle a gap in the committed samples (motion, a discarded lead-in): each
 //! contiguous static stretch contributes its own differences, and the levels are winsorised
-//! ([`ALLAN_CLIP`]) so that what leaks past the detector does not inflate them.
+//! ([`ALLAN_CLIP`]) so that what leaks past the detector does not inflate them. The levels are an
+//! [`AllanCascade`].
 
-/// Octave levels kept: blocks of 1 … 2^(LEVELS−1) samples (2^21 samples: 35 min at 1 kHz).
-pub const LEVELS: usize = 22;
+use super::allan_cascade::AllanCascade;
+pub use super::allan_cascade::{ALLAN_CLIP, ALLAN_CLIP_MEAN, LEVELS, TRUSTED_DIFFERENCES};
+
 /// Differences a level needs to enter the white-noise figure N² (relative σ of its estimate
 /// ≈ √(2/1024) = 4 %).
 pub const PRECISE_DIFFERENCES: u64 = 1024;
-/// Differences a level needs before its variance is trusted (relative σ of the estimate ≈ √(2/16)).
-pub const TRUSTED_DIFFERENCES: u64 = 16;
 /// When the Allan variance is flat or still falls at the longest trusted level, τ\* lies beyond it
 /// (a level needs [`TRUSTED_DIFFERENCES`] blocks, so the longest trusted one is ≤ 1/16 of the
 /// data): τ\* is taken this many times that level. Chosen on simulated recordings (adis16405
@@ -54,16 +54,6 @@ pub const FALLING_EXTRAPOLATION: f64 = 4.0;
 /// 0.22×, 0.19×, 0.18×, worst recording × profile 2.15×, 2.15×, 1.46×, 1.08×), never on the
 /// motion seeds reported.
 pub const FLAT_TOLERANCE: f64 = 3.0;
-/// Winsorised Allan variance: once a level is trusted, a block difference d enters clipped at
-/// this many of its standard deviations √(2σ²) (½d² ≤ ALLAN_CLIP²·σ², σ² the level's current
-/// estimate) and divided by [`ALLAN_CLIP_MEAN`], so that the estimate stays unbiased for Gaussian
-/// differences (a Huber-type M-estimate of scale). A slow rotation the detector missed, or the
-/// lead-in of one found late, gives block differences of many σ; unclipped they raise the long-τ
-/// variance, which shortens τ\*, speeds the tracker up and widens the detector's thresholds, so
-/// that the next slow rotation is missed too (a loop seen on the simulated tuning set).
-pub const ALLAN_CLIP: f64 = 2.5;
-/// E[min(χ²₁, ALLAN_CLIP²)]: the mean of a winsorised ½d²/σ² (scipy.stats.chi2, 1 dof).
-pub const ALLAN_CLIP_MEAN: f64 = 0.977_559_983_452_724;
 /// Differences the robust start-up σ collects (their median seeds the running scale).
 const STARTUP_DIFFS: usize = 63;
 /// Memory of the running scale of |Δx| (samples): cumulative, then exponential.
@@ -79,25 +69,12 @@ const STARTUP_MIN_DIFFS: usize = 8;
 /// σ of Gaussian noise per median absolute value: 1/Φ⁻¹(0.75).
 const MEDIAN_ABS_TO_SIGMA: f64 = 1.482_602_218_505_602;
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-struct Level {
-    /// Sum of the block in progress.
-    partial: f64,
-    /// Samples (level 0) or lower-level blocks (level ≥ 1) in the block in progress.
-    filled: u8,
-    /// Mean of the last complete block.
-    previous: Option<f64>,
-    /// Σ ½(ȳ_{k+1} − ȳ_k)² and the number of differences.
-    sum_half_sq: f64,
-    count: u64,
-}
-
 /// Online noise calibration of one axis (module documentation); allocation-free after
 /// [`NoiseCalibration::new`]. Serialisable: a snapshot carries it, so a restarted pipeline keeps
 /// its noise figures.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct NoiseCalibration {
-    levels: [Level; LEVELS],
+    levels: AllanCascade,
     /// w(2^j) per level, extrapolated where untrusted (`None` until any σ is known).
     white_equiv: [f64; LEVELS],
     known: bool,
@@ -128,7 +105,7 @@ impl NoiseCalibration {
     /// An empty calibration: nothing known.
     pub fn new() -> Self {
         Self {
-            levels: [Level::default(); LEVELS],
+            levels: AllanCascade::new(),
             white_equiv: [0.0; LEVELS],
             known: false,
             startup: vec![0.0; STARTUP_DIFFS],
@@ -189,42 +166,11 @@ impl NoiseCalibration {
     /// and a look-back's leftovers at a stretch's end would otherwise meet the next stretch.
     pub fn commit(&mut self, index: u64, x: f64) {
         if self.last_committed.is_some_and(|last| last.checked_add(1) != Some(index)) {
-            for level in &mut self.levels {
-                level.partial = 0.0;
-                level.filled = 0;
-                level.previous = None;
-            }
+            self.levels.break_blocks();
         }
         self.last_committed = Some(index);
         self.committed += 1;
-        let mut sum = x;
-        let mut changed = false;
-        for (j, level) in self.levels.iter_mut().enumerate() {
-            level.partial += sum;
-            level.filled += 1;
-            let needed = if j == 0 { 1 } else { 2 };
-            if level.filled < needed {
-                break;
-            }
-            let block = level.partial;
-            let mean = block / (1u64 << j) as f64;
-            if let Some(prev) = level.previous {
-                let half_sq = 0.5 * (mean - prev) * (mean - prev);
-                level.sum_half_sq += if level.count >= TRUSTED_DIFFERENCES {
-                    let sigma2 = level.sum_half_sq / level.count as f64;
-                    half_sq.min(ALLAN_CLIP * ALLAN_CLIP * sigma2) / ALLAN_CLIP_MEAN
-                } else {
-                    half_sq
-                };
-                level.count += 1;
-                changed |= level.count >= TRUSTED_DIFFERENCES;
-            }
-            level.previous = Some(mean);
-            level.partial = 0.0;
-            level.filled = 0;
-            sum = block;
-        }
-        if changed {
+        if self.levels.push(x) {
             self.refresh();
         }
     }
@@ -244,8 +190,7 @@ impl NoiseCalibration {
     }
 
     fn trusted_avar(&self, j: usize) -> Option<f64> {
-        let l = &self.levels[j];
-        (l.count >= TRUSTED_DIFFERENCES).then(|| l.sum_half_sq / l.count as f64)
+        self.levels.trusted(j)
     }
 
     fn refresh(&mut self) {
@@ -280,7 +225,7 @@ impl NoiseCalibration {
             && self.scale >= 0.0
             && self.min_block >= 1.0
             && self.white_equiv.iter().chain(&self.startup).all(|v| v.is_finite() && *v >= 0.0)
-            && self.levels.iter().all(|l| l.partial.is_finite() && l.sum_half_sq.is_finite() && l.sum_half_sq >= 0.0)
+            && self.levels.is_valid()
     }
 
     /// Changes whenever the derived values do.
@@ -322,8 +267,8 @@ impl NoiseCalibration {
     /// m·σ²(m); the running per-sample σ² before any.
     pub fn white_variance(&self) -> Option<f64> {
         let precise = (0..LEVELS).filter_map(|j| {
-            let l = &self.levels[j];
-            (l.count >= PRECISE_DIFFERENCES).then(|| l.sum_half_sq / l.count as f64 * (1u64 << j) as f64)
+            let (v, count) = self.levels.level(j)?;
+            (count >= PRECISE_DIFFERENCES).then(|| v * (1u64 << j) as f64)
         });
         precise.reduce(f64::min).or_else(|| self.sample_variance()).map(|v| v.max(f64::MIN_POSITIVE))
     }
@@ -347,7 +292,7 @@ impl NoiseCalibration {
         let mut j = j_min;
         while j < longest {
             let Some(v) = self.trusted_avar(j + 1) else { break };
-            if !within_flat_region(v, v_min, self.levels[j + 1].count) {
+            if !within_flat_region(v, v_min, self.levels.level(j + 1).map_or(0, |l| l.1)) {
                 break;
             }
             j += 1;
@@ -374,10 +319,15 @@ impl NoiseCalibration {
         self.version += 1;
     }
 
+    /// The shortest τ\* (samples) [`NoiseCalibration::optimal_block`] returns
+    /// ([`NoiseCalibration::set_min_block`]).
+    pub fn min_block(&self) -> f64 {
+        self.min_block
+    }
+
     /// Allan variance of trusted level j (block 2^j samples) and its number of differences.
     pub fn level(&self, j: usize) -> Option<(f64, u64)> {
-        let l = self.levels.get(j)?;
-        (l.count > 0).then(|| (l.sum_half_sq / l.count as f64, l.count))
+        self.levels.level(j)
     }
 }
 

@@ -4,6 +4,7 @@
 //! The layer above builds pipelines from the configuration and drives them (`crate::drive`);
 //! the phase-space embedding is numerics (`crate::model::embed`); iceoryx2 is `crate::ipc`.
 
+pub mod allan_cascade;
 pub mod calibration;
 pub mod causal_denoise;
 pub mod detector;

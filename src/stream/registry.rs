@@ -8,7 +8,8 @@ use super::detector::{
     DetectorKind, MotionDetector, NoDetector, StatisticalConfig, StatisticalDetector, ThresholdDetector,
 };
 use super::drift::{
-    DriftConfig, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast, StartupHold,
+    AdaptiveKalman, DriftConfig, DriftEstimator, EstimatorKind, HybridForecast, KalmanBias, ModelForecast,
+    MultiScaleKalman, StartupHold,
 };
 use super::motion_gate::MotionConfig;
 
@@ -26,6 +27,8 @@ impl EstimatorKind {
         Ok(match self {
             Self::Kalman => Box::new(KalmanBias::new(drift.innovation_gate, drift.temperature)),
             Self::BiasHold => Box::new(StartupHold::new(drift.startup_s)),
+            Self::Multiscale => Box::new(MultiScaleKalman::new(drift.innovation_gate)),
+            Self::Adaptive => Box::new(AdaptiveKalman::new(drift.innovation_gate, drift.temperature)),
             Self::Hybrid => Box::new(HybridForecast::new(drift.innovation_gate, drift.temperature, history)),
             Self::CpsoLssvm => {
                 Box::new(ModelForecast::new(causal.clone(), history, bias_samples).map_err(|e| e.to_string())?)

@@ -109,6 +109,8 @@ pub struct KalmanBias {
     calibration_version: u64,
     gate_nis: f64,
     counters: KalmanCounters,
+    /// Innovation and its variance of the last commit the output's filter used.
+    last_innovation: Option<(f64, f64)>,
 }
 
 impl KalmanBias {
@@ -128,6 +130,7 @@ impl KalmanBias {
             calibration_version: u64::MAX,
             gate_nis: chi2_upper(1.0, gate_probability),
             counters: KalmanCounters::default(),
+            last_innovation: None,
         }
     }
 
@@ -144,6 +147,12 @@ impl KalmanBias {
             self.r = r;
             self.q = noise.optimal_block().map_or(0.0, |m| 3.0 * r / (m * m));
         }
+    }
+
+    /// Innovation ν and its variance S (deg/s, (deg/s)²) of the last commit, of the filter that
+    /// drives the output, when it used it (not the first commit, nor one the gate refused).
+    pub fn last_innovation(&self) -> Option<(f64, f64)> {
+        self.last_innovation
     }
 
     /// Process noise per sample and measurement noise, (deg/s)² (NaN R before calibration).
@@ -230,6 +239,7 @@ impl DriftEstimator for KalmanBias {
     fn commit(&mut self, index: u64, raw: f64, noise: &NoiseCalibration) {
         self.recalibrate(noise);
         self.counters.commits += 1;
+        self.last_innovation = None;
         if !self.r.is_finite() {
             // No noise figure yet (cannot happen after a commit fed the calibration first).
             return;
@@ -290,6 +300,8 @@ impl DriftEstimator for KalmanBias {
         self.counters.nis_count += 1;
         if gated_out {
             self.counters.gated += 1;
+        } else {
+            self.last_innovation = Some((nu_out, s_out));
         }
         if gated {
             self.variance = p;

@@ -13,11 +13,16 @@
 //! | `kalman` | scalar Kalman filter, bias as a random walk, Q and R from the unit's own Allan variance ([`KalmanBias`]) |
 //! | `cpso-lssvm` | the paper's method: db4 causal denoising, PSR, CPSO-tuned LS-SVM forecast retrained in the background (`ModelForecast`) |
 //! | `bias-hold` | the mean of the start-up static span, then held for ever ([`StartupHold`]) |
+//! | `multiscale` | Kalman filter, random-walk bias plus Gauss–Markov states at 3 s … 1000 s, its noise model fitted to the unit's Allan variance across static stretches ([`MultiScaleKalman`]) |
+//! | `adaptive` | `kalman` and `multiscale` side by side, the one whose model predicts the unit's committed samples better (Bayes factor) driving ([`AdaptiveKalman`]) |
 //! | `hybrid` | the Kalman tracker while static; while moving, plus the change a CPSO-LSSVM model of the tracker's 10 s block means forecasts (`HybridForecast`) |
 
+mod adaptive;
+mod bank_model;
 mod hybrid;
 mod kalman;
 mod model_forecast;
+mod multiscale;
 mod startup_hold;
 
 use std::fmt;
@@ -26,9 +31,12 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
+pub use adaptive::AdaptiveKalman;
+pub use bank_model::{BANK_TAUS_S, MIN_FIT_DIFFERENCES, fit_bank};
 pub(crate) use hybrid::HybridForecast;
 pub use kalman::{KalmanBias, KalmanCounters, TEMPERATURE_EVIDENCE};
 pub(crate) use model_forecast::ModelForecast;
+pub use multiscale::{MultiScaleKalman, REFIT_S};
 pub use startup_hold::StartupHold;
 
 use super::calibration::NoiseCalibration;
@@ -138,6 +146,10 @@ pub enum EstimatorKind {
     CpsoLssvm,
     /// [`StartupHold`].
     BiasHold,
+    /// [`MultiScaleKalman`].
+    Multiscale,
+    /// [`AdaptiveKalman`].
+    Adaptive,
     /// `HybridForecast`: the Kalman tracker, plus a CPSO-LSSVM forecast of the bias trajectory
     /// while moving.
     Hybrid,
@@ -145,7 +157,8 @@ pub enum EstimatorKind {
 
 impl EstimatorKind {
     /// Every estimator, in documentation order.
-    pub const ALL: [Self; 4] = [Self::Kalman, Self::CpsoLssvm, Self::BiasHold, Self::Hybrid];
+    pub const ALL: [Self; 6] =
+        [Self::Kalman, Self::CpsoLssvm, Self::BiasHold, Self::Multiscale, Self::Adaptive, Self::Hybrid];
 
     /// The name in the configuration.
     pub fn name(self) -> &'static str {
@@ -153,6 +166,8 @@ impl EstimatorKind {
             Self::Kalman => "kalman",
             Self::CpsoLssvm => "cpso-lssvm",
             Self::BiasHold => "bias-hold",
+            Self::Multiscale => "multiscale",
+            Self::Adaptive => "adaptive",
             Self::Hybrid => "hybrid",
         }
     }

@@ -41,7 +41,7 @@ use crate::model::snapshot::ModelState;
 /// First bytes of every snapshot.
 pub const MAGIC: [u8; 8] = *b"GYROSNAP";
 /// Version of the layout and payload written by this build (the only one it reads).
-pub const FORMAT_VERSION: u32 = 5;
+pub const FORMAT_VERSION: u32 = 6;
 /// Largest payload accepted, bytes (a 1,000,000-sample history of three axes is 24 MB).
 pub const MAX_PAYLOAD: usize = 256 << 20;
 /// Bytes before the payload.
@@ -394,7 +394,34 @@ mod tests {
 
     #[test]
     fn a_restart_mid_motion_on_the_default_path_continues_bit_identically() {
-        let c = default_config();
+        restart_mid_motion_continues_bit_identically(&default_config(), |snapshot| {
+            assert!(snapshot.axes.iter().all(|a| a.warm.variance.is_finite() && a.warm.temperature.is_some()));
+        });
+    }
+
+    #[test]
+    fn a_restart_mid_motion_of_the_multiscale_tracker_continues_bit_identically() {
+        let mut c = default_config();
+        c.drift.kind = crate::stream::EstimatorKind::Multiscale;
+        restart_mid_motion_continues_bit_identically(&c, |snapshot| {
+            assert!(snapshot.axes.iter().all(|a| a.warm.bank.is_some_and(|b| b.started && b.model.fitted)));
+        });
+    }
+
+    #[test]
+    fn a_restart_mid_motion_of_the_adaptive_tracker_continues_bit_identically() {
+        let mut c = default_config();
+        c.drift.kind = crate::stream::EstimatorKind::Adaptive;
+        restart_mid_motion_continues_bit_identically(&c, |snapshot| {
+            assert!(snapshot.axes.iter().all(|a| {
+                a.warm.variance.is_finite() && a.warm.bank.is_some_and(|b| b.started) && a.warm.model_evidence != 0.0
+            }));
+        });
+    }
+
+    /// Runs `c` into a turn, snapshots (checked by `check`), restores into a new pipeline and
+    /// asserts that the two continue bit for bit and differ from a cold start.
+    fn restart_mid_motion_continues_bit_identically(c: &Config, check: impl Fn(&Snapshot)) {
         let turns = [3000..3040, 4500..4530];
         let mut original = Pipeline::new(c.pipeline().unwrap()).unwrap();
         // Run into the first turn until the detector has flagged it for a while.
@@ -412,7 +439,7 @@ mod tests {
         assert!(snapshot.axes.iter().all(|a| a.model.is_none()));
         assert_eq!(snapshot.model_version(), 0);
         // (The onset flushed the pending queue: it is empty during a motion.)
-        assert!(snapshot.axes.iter().all(|a| a.warm.variance.is_finite() && a.warm.temperature.is_some()));
+        check(&snapshot);
         let bytes = snapshot.encode().unwrap();
         let decoded = Snapshot::decode(&bytes).unwrap();
         // Bytes, not `==`: pending temperatures may be NaN (none).

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::bank::BankWarm;
 use crate::stream::calibration::NoiseCalibration;
 
 /// One axis' pipeline state beside its model (see the module documentation); each drift
@@ -28,6 +29,10 @@ pub struct AxisWarm {
     pub temperature: Option<TemperatureWarm>,
     /// Kalman: the last finite temperature seen (°C), which stands in for a sample without one.
     pub last_temp_c: Option<f64>,
+    /// Multi-scale tracker: its whole state (`None` for the other estimators).
+    pub bank: Option<BankWarm>,
+    /// Adaptive tracker: log Bayes factor of the multi-scale model against the scalar one.
+    pub model_evidence: f64,
     /// The axis' self-calibration (online Allan variance, running σ).
     pub noise: NoiseCalibration,
     /// Drift subtracted from the last accepted sample (held during motion).
@@ -79,7 +84,8 @@ impl AxisWarm {
             && self.drift_std >= 0.0
             && self.noise.is_valid()
             && self.temperature.iter().flat_map(TemperatureWarm::values).all(f64::is_finite)
-            && [self.bias, self.drift, self.comp]
+            && self.bank.iter().all(BankWarm::is_valid)
+            && [self.bias, self.drift, self.comp, self.model_evidence]
                 .iter()
                 .chain(self.last_temp_c.iter())
                 .chain(&self.denoiser_window)

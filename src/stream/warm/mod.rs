@@ -5,10 +5,12 @@
 //! ([`super::snapshot`]).
 
 mod axis;
+mod bank;
 
 use serde::{Deserialize, Serialize};
 
 pub use axis::{AxisWarm, TemperatureWarm};
+pub use bank::{BANK_GM, BANK_STATES, BankModel, BankWarm};
 
 use super::detector::DetectorState;
 use super::input_check::InputState;
