@@ -95,9 +95,9 @@ impl AllanCascade {
         (l.count > 0).then(|| (l.sum_half_sq / l.count as f64, l.count))
     }
 
-    /// Allan variance of level j once it has [`TRUSTED_DIFFERENCES`] differences.
-    pub fn trusted(&self, j: usize) -> Option<f64> {
-        self.level(j).and_then(|(v, n)| (n >= TRUSTED_DIFFERENCES).then_some(v))
+    /// [`AllanCascade::level`] once it has [`TRUSTED_DIFFERENCES`] differences.
+    pub fn trusted(&self, j: usize) -> Option<(f64, u64)> {
+        self.level(j).filter(|&(_, n)| n >= TRUSTED_DIFFERENCES)
     }
 
     /// Whether the stored sums are usable (finite, non-negative, block counters in range).

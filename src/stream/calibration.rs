@@ -190,7 +190,7 @@ impl NoiseCalibration {
     }
 
     fn trusted_avar(&self, j: usize) -> Option<f64> {
-        self.levels.trusted(j)
+        self.levels.trusted(j).map(|(v, _)| v)
     }
 
     fn refresh(&mut self) {
@@ -273,6 +273,15 @@ impl NoiseCalibration {
         precise.reduce(f64::min).or_else(|| self.sample_variance()).map(|v| v.max(f64::MIN_POSITIVE))
     }
 
+    /// The scalar tracker's noise model from this calibration: R = [`NoiseCalibration::white_variance`]
+    /// (positive, so that a constant input, an axis the recording lacks, keeps the gain defined)
+    /// and the random-walk step Q = [`walk_for_memory`]\(R, τ\*) (0 before τ\* is known);
+    /// `None` before any σ is known.
+    pub fn random_walk_noise(&self) -> Option<(f64, f64)> {
+        let r = self.white_variance()?;
+        Some((r, self.optimal_block().map_or(0.0, |m| walk_for_memory(r, m))))
+    }
+
     /// τ\* in samples: the longest trusted block size, going up from the smallest Allan variance,
     /// whose variance is within [`FLAT_TOLERANCE`] standard errors of it (module documentation);
     /// `None` before any level is trusted.
@@ -291,8 +300,8 @@ impl NoiseCalibration {
         // The flat region: longer levels not significantly above the minimum.
         let mut j = j_min;
         while j < longest {
-            let Some(v) = self.trusted_avar(j + 1) else { break };
-            if !within_flat_region(v, v_min, self.levels.level(j + 1).map_or(0, |l| l.1)) {
+            let Some((v, count)) = self.levels.trusted(j + 1) else { break };
+            if !within_flat_region(v, v_min, count) {
                 break;
             }
             j += 1;
@@ -329,6 +338,14 @@ impl NoiseCalibration {
     pub fn level(&self, j: usize) -> Option<(f64, u64)> {
         self.levels.level(j)
     }
+}
+
+/// Per-sample step variance Q = 3R/m² of the random walk whose Allan curve with white noise of
+/// per-sample variance `white` (N²/τ + K²τ/3) has its minimum at `memory` samples (τ = √3·N/K):
+/// the module documentation's K_eff, the process noise of a tracker that averages for about
+/// m/√3 samples.
+pub fn walk_for_memory(white: f64, memory: f64) -> f64 {
+    3.0 * white / (memory * memory)
 }
 
 /// Whether a level's Allan variance `v`, estimated from `count` differences, is not

@@ -23,6 +23,7 @@
 //!
 //! The evidence is kept across a relearn (it is about the unit's noise, not the state).
 
+use super::kalman::log_density;
 use super::{DriftEstimate, DriftEstimator, KalmanBias, KalmanCounters, MultiScaleKalman, PendingMean};
 use crate::stream::calibration::NoiseCalibration;
 use crate::stream::warm::AxisWarm;
@@ -73,11 +74,6 @@ impl AdaptiveKalman {
     }
 }
 
-/// ln N(ν; 0, s) up to the constant −½ ln 2π (which cancels in a log Bayes factor).
-fn log_density((nu, s): (f64, f64)) -> f64 {
-    -0.5 * (s.ln() + nu * nu / s)
-}
-
 impl DriftEstimator for AdaptiveKalman {
     fn name(&self) -> &'static str {
         "adaptive"
@@ -91,8 +87,8 @@ impl DriftEstimator for AdaptiveKalman {
         let before = self.bank_drives();
         self.scalar.commit(index, raw, noise);
         self.bank.commit(index, raw, noise);
-        if let (Some(scalar), Some(bank)) = (self.scalar.last_innovation(), self.bank.last_innovation()) {
-            self.evidence += log_density(bank) - log_density(scalar);
+        if let (Some((nu, s)), Some((nu_b, s_b))) = (self.scalar.last_innovation(), self.bank.last_innovation()) {
+            self.evidence += log_density(nu_b, s_b) - log_density(nu, s);
         }
         if self.bank_drives() != before {
             tracing::debug!(

@@ -19,6 +19,7 @@
 use crate::diag::noise_fit::fit_terms;
 use crate::sim::theory::{gauss_markov_avar_sampled, random_walk_avar};
 use crate::stream::allan_cascade::{AllanCascade, LEVELS};
+use crate::stream::calibration::walk_for_memory;
 use crate::stream::warm::{BANK_GM, BankModel};
 
 /// Correlation times of the Gauss–Markov states, s: the time scales between a turn and a long
@@ -78,7 +79,7 @@ pub fn fit_bank(allan: &AllanCascade, dt: f64, min_memory: f64) -> Option<BankMo
         // No white term: the curve's short end is unexplained (a stuck or quantised input).
         return None;
     }
-    let cap = 3.0 * c[0] / (min_memory * min_memory);
+    let cap = walk_for_memory(c[0], min_memory);
     let markov = std::array::from_fn(|g| {
         let increment = -(-2.0 * dt / BANK_TAUS_S[g]).exp_m1(); // 1 − φ²
         c[2 + g].min(cap / increment)

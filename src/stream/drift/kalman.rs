@@ -140,12 +140,8 @@ impl KalmanBias {
             return;
         }
         self.calibration_version = noise.version();
-        if let Some(r) = noise.white_variance() {
-            // A constant input (an axis the recording lacks) has zero noise: keep R positive so
-            // the gain stays defined.
-            let r = r.max(f64::MIN_POSITIVE);
-            self.r = r;
-            self.q = noise.optimal_block().map_or(0.0, |m| 3.0 * r / (m * m));
+        if let Some((r, q)) = noise.random_walk_noise() {
+            (self.r, self.q) = (r, q);
         }
     }
 
@@ -204,7 +200,7 @@ impl KalmanBias {
 }
 
 /// ln N(ν; 0, s) up to the constant −½ ln 2π (which cancels in a log Bayes factor).
-fn log_density(nu: f64, s: f64) -> f64 {
+pub(super) fn log_density(nu: f64, s: f64) -> f64 {
     -0.5 * (s.ln() + nu * nu / s)
 }
 
@@ -226,14 +222,8 @@ impl DriftEstimator for KalmanBias {
             }
             return DriftEstimate { drift: self.bias, variance: self.variance + self.q * dk, from_model: true };
         }
-        // Nothing committed yet (start-up): the mean of the pending samples.
-        match pending.count {
-            0 => DriftEstimate { drift: 0.0, variance: f64::INFINITY, from_model: false },
-            n => {
-                let variance = if self.r.is_finite() { self.r / n as f64 } else { f64::INFINITY };
-                DriftEstimate { drift: pending.sum / n as f64, variance, from_model: false }
-            }
-        }
+        // Nothing committed yet (start-up); R is NaN before the calibration knows a σ.
+        pending.startup_estimate(self.r)
     }
 
     fn commit(&mut self, index: u64, raw: f64, noise: &NoiseCalibration) {

@@ -53,6 +53,21 @@ pub struct PendingMean {
     pub sum: f64,
 }
 
+impl PendingMean {
+    /// The drift of a tracker with nothing committed yet (start-up, or after a relearn): the
+    /// pending samples' plain mean, of variance `white`/n (+∞ without a positive white-noise
+    /// variance per sample, or without samples), not from the tracker's model.
+    pub fn startup_estimate(self, white: f64) -> DriftEstimate {
+        match self.count {
+            0 => DriftEstimate { drift: 0.0, variance: f64::INFINITY, from_model: false },
+            n => {
+                let variance = if white > 0.0 { white / n as f64 } else { f64::INFINITY };
+                DriftEstimate { drift: self.sum / n as f64, variance, from_model: false }
+            }
+        }
+    }
+}
+
 /// An estimator's drift for one sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DriftEstimate {

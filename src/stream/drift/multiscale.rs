@@ -91,10 +91,8 @@ impl MultiScaleKalman {
             return;
         }
         self.calibration_version = noise.version();
-        if let Some(r) = noise.white_variance() {
-            let r = r.max(f64::MIN_POSITIVE);
-            let walk = noise.optimal_block().map_or(0.0, |m| 3.0 * r / (m * m));
-            self.bank.model = BankModel { white: r, walk, markov: [0.0; BANK_GM], fitted: false };
+        if let Some((white, walk)) = noise.random_walk_noise() {
+            self.bank.model = BankModel { white, walk, markov: [0.0; BANK_GM], fitted: false };
         }
     }
 
@@ -156,14 +154,7 @@ impl DriftEstimator for MultiScaleKalman {
             }
             return DriftEstimate { drift, variance: variance.max(0.0), from_model: true };
         }
-        let r = self.bank.model.white;
-        match pending.count {
-            0 => DriftEstimate { drift: 0.0, variance: f64::INFINITY, from_model: false },
-            n => {
-                let variance = if r > 0.0 { r / n as f64 } else { f64::INFINITY };
-                DriftEstimate { drift: pending.sum / n as f64, variance, from_model: false }
-            }
-        }
+        pending.startup_estimate(self.bank.model.white)
     }
 
     fn commit(&mut self, index: u64, raw: f64, noise: &NoiseCalibration) {
