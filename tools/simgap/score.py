@@ -8,20 +8,83 @@ Outcome of a case: the first chosen effect when the verdict is "explained" or "p
 expected answer (an effect's name; `none` for the pure-IEEE control; `unexplained` for an effect
 outside the catalogue).
 
+With `--given-floor` the diagnosis is given the case's noise floor as its simulator
+(`gyrocomp simgap --sim`) instead of fitting the IEEE Std 952 terms to the recording: the
+sim-to-real use, where the simulator was set up before the recording was made. The floor's white
+noise and rate random walk are written as they are; its Gauss-Markov bank, which the simulator
+config has no form for, as the flicker floor with the bank's Allan level (`floor_sim_toml`); the
+constant bias as the mean of the training part (a turn-on bias no simulator knows).
+
 Usage:
     score.py CASE_DIR [--gyrocomp target/release/gyrocomp] [--jobs 1] [--extra "--threads 1"]
-             [--results results.json] [--keep DIR]
+             [--results results.json] [--keep DIR] [--given-floor]
 """
 
 import argparse
 import collections
 import concurrent.futures
 import json
+import math
 import os
 import shlex
 import subprocess
 import sys
+import tempfile
 import time
+
+import numpy as np
+
+# The span of averaging times over which the Gauss-Markov bank's Allan deviation is taken as a
+# flicker floor (independent_cases.py: "flat-ish from ~10 s to ~1000 s"), s.
+FLICKER_SPAN_S = (10.0, 2000.0)
+# IEEE Std 952: the flicker floor of the Allan deviation is sqrt(2 ln 2 / pi) B.
+FLICKER_FLOOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
+
+
+def gauss_markov_avar(sigma, tau_c, tau):
+    """Allan variance of a first-order Gauss-Markov process of stationary sigma and correlation
+    time tau_c at averaging time tau (IEEE Std 952-1997, Annex C)."""
+    r = tau / tau_c
+    return 2.0 * sigma * sigma / r * (1.0 - (3.0 - 4.0 * np.exp(-r) + np.exp(-2.0 * r)) / (2.0 * r))
+
+
+def floor_sim_toml(floor, rate_hz, duration_s, bias_dps):
+    """A `gyrocomp sim` config (TOML) of a case's noise floor (manifest `floors` entry): white
+    noise as angle random walk, rate random walk as it is, the Gauss-Markov bank as a flicker
+    floor at the geometric mean of the bank's Allan deviation over FLICKER_SPAN_S."""
+    lines = [
+        f"rate_hz = {rate_hz!r}",
+        f"duration_s = {duration_s!r}",
+        "",
+        "[axis]",
+        f"bias_dps = {float(bias_dps)!r}",
+        f"arw_deg_rt_h = {floor['white_n'] * 60.0!r}",
+        f"rrw_deg_h_rt_h = {floor['rrw_k'] * 3600.0 * 60.0!r}",
+    ]
+    if floor["gm_bank"]:
+        taus = np.geomspace(FLICKER_SPAN_S[0], FLICKER_SPAN_S[1], 25)
+        avar = sum(gauss_markov_avar(sg, tc, taus) for sg, tc in floor["gm_bank"])
+        level = float(np.exp(np.mean(np.log(np.sqrt(avar)))))
+        lines += [
+            "",
+            "[axis.bias_instability]",
+            'model = "flicker"',
+            f"b_deg_h = {level / FLICKER_FLOOR * 3600.0!r}",
+            f"floor_from_s = {FLICKER_SPAN_S[0]!r}",
+            f"floor_to_s = {FLICKER_SPAN_S[1]!r}",
+        ]
+    return "\n".join(lines) + "\n"
+
+
+def given_floor_args(case_dir, case, floors, sim_dir):
+    """`--sim FILE` for a case: its floor as a simulator config, the bias from the training part
+    (the first 70 %, gyrocomp simgap's default split)."""
+    x = np.loadtxt(os.path.join(case_dir, case["file"]), delimiter=",", skiprows=1, usecols=1)
+    bias = x[: int(round(0.7 * x.size))].mean()
+    path = os.path.join(sim_dir, f"floor_{case['seed']}.toml")
+    with open(path, "w") as f:
+        f.write(floor_sim_toml(floors[case["floor"]], case["rate_hz"], case["duration_s"], bias))
+    return ["--sim", path]
 
 
 def outcome(doc):
@@ -37,7 +100,9 @@ def expected_outcome(case):
     return "unexplained" if case["expected"] == "outside" else case["expected"]
 
 
-def run_case(gyrocomp, case_dir, case, extra, keep=None):
+def run_case(gyrocomp, case_dir, case, extra, keep=None, given=None):
+    if given is not None:
+        extra = extra + given_floor_args(case_dir, case, *given)
     cmd = [gyrocomp, "simgap", "--real", os.path.join(case_dir, case["file"]), "--json"] + extra
     start = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -95,6 +160,8 @@ def main():
     ap.add_argument("--keep", help="keep every case's full diagnosis JSON in this folder")
     ap.add_argument("--only", help="comma-separated classes to run")
     ap.add_argument("--per-class", type=int, help="run only the first N cases of each class")
+    ap.add_argument("--given-floor", action="store_true",
+                    help="give the diagnosis each case's noise floor as its simulator (module docs)")
     a = ap.parse_args()
     with open(os.path.join(a.case_dir, "manifest.json")) as f:
         manifest = json.load(f)
@@ -113,9 +180,11 @@ def main():
     extra = shlex.split(a.extra)
     if a.keep:
         os.makedirs(a.keep, exist_ok=True)
+    sim_dir = tempfile.mkdtemp(prefix="simgap-floors-") if a.given_floor else None
+    given = (manifest["floors"], sim_dir) if a.given_floor else None
     start = time.time()
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        futures = [pool.submit(run_case, a.gyrocomp, a.case_dir, c, extra, a.keep) for c in cases]
+        futures = [pool.submit(run_case, a.gyrocomp, a.case_dir, c, extra, a.keep, given) for c in cases]
         results = []
         for c, fut in zip(cases, futures):
             r = fut.result()
@@ -128,7 +197,8 @@ def main():
                   f"{r['seconds']:.1f} s", flush=True)
     rows = list(zip(cases, results))
     print(f"\n{len(cases)} cases from {a.case_dir} ({manifest['seed_range']} seeds), "
-          f"{time.time() - start:.0f} s; extra arguments: {a.extra or '(none)'}")
+          f"{time.time() - start:.0f} s; extra arguments: {a.extra or '(none)'}"
+          f"{'; baseline: the given floor (--given-floor)' if a.given_floor else ''}")
     table("By effect class (rows: injected; columns: what was named first)", rows, lambda c: c["klass"])
     table("By effect class and magnitude bin", rows, lambda c: f"{c['klass']} {c['magnitude_bin'] or '-'}")
     table("By sub-class", rows, lambda c: c["sub"])
