@@ -183,7 +183,8 @@ fn simulated(extra: &str, seed: u64) -> tempfile::NamedTempFile {
 }
 
 /// With `--sim` the given model is the baseline: a recording made by that very model shows no
-/// significant gap, and one made by it plus a sinusoid it lacks gets the sinusoid named.
+/// significant gap (and its own fitted white noise, reported beside the simulator's, is the
+/// simulator's), and one made by it plus a sinusoid it lacks gets the sinusoid named.
 #[test]
 fn a_given_sim_config_is_the_baseline() {
     let preset = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/sim/adis16405.toml");
@@ -206,6 +207,9 @@ fn a_given_sim_config_is_the_baseline() {
     assert_eq!(same["verdict"], "no_significant_gap", "{same}");
     assert_eq!(same["chosen"], serde_json::json!([]));
     assert!(same["baseline_terms"].is_null(), "a given model is not refitted: {}", same["baseline_terms"]);
+    // The recording's own terms, set beside the simulator's: the preset's N (2.4 deg/√h on x).
+    let n = same["recording_terms"]["n"].as_f64().unwrap() * 60.0;
+    assert!((n / 2.4 - 1.0).abs() < 0.05, "recording N {n} deg/√h against the preset's 2.4");
     let line = "[[x.sinusoids]]\namplitude_dps = 0.02\nfrequency_hz = 0.05\nphase_deg = 30.0\n";
     let with_line = diagnose(&simulated(line, 12));
     assert_eq!(with_line["chosen"], serde_json::json!(["sinusoid"]), "{with_line}");

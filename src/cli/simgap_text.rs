@@ -4,9 +4,11 @@ use std::io::Write;
 
 use super::simgap_args::SimgapArgs;
 use super::simgap_json::where_entries;
+use crate::diag::simgap::baseline::NoiseTerms;
 use crate::diag::simgap::gap::{Flag, PartComparison};
 use crate::diag::simgap::stats::fmt_num;
 use crate::diag::simgap::{Diagnosis, Verdict};
+use crate::sim::{AxisConfig, BiasInstability};
 
 fn write_part_gaps(out: &mut impl Write, label: &str, p: (&PartComparison, &PartComparison)) -> std::io::Result<()> {
     let mark = |c: &PartComparison| if c.significant { "*" } else { " " };
@@ -37,6 +39,24 @@ fn write_part_gaps(out: &mut impl Write, label: &str, p: (&PartComparison, &Part
         flag(p.0),
         flag(p.1)
     )
+}
+
+/// The recording's fitted IEEE Std 952 terms beside the given simulator's, in datasheet units.
+fn write_terms_beside_simulator(out: &mut impl Write, t: &NoiseTerms, sim: &AxisConfig) -> std::io::Result<()> {
+    let b_sim = match &sim.bias_instability {
+        Some(BiasInstability::Flicker { b_deg_h, .. } | BiasInstability::GaussMarkov { b_deg_h, .. }) => Some(*b_deg_h),
+        None => None,
+    };
+    let show = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.3}"));
+    writeln!(out, "  {:<22} {:>12} {:>12}", "IEEE Std 952 term", "simulator", "recording")?;
+    for (name, simulated, recorded) in [
+        ("N, deg/√h", sim.arw_deg_rt_h, t.n * 60.0),
+        ("B, deg/h", b_sim, t.b * 3600.0),
+        ("K, deg/h/√h", sim.rrw_deg_h_rt_h, t.k * 216_000.0),
+    ] {
+        writeln!(out, "  {name:<22} {:>12} {recorded:>12.3}", show(simulated))?;
+    }
+    writeln!(out, "  (recording: fitted to the training part's robust Allan deviation, for comparison only)")
 }
 
 pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis, seconds: f64) -> std::io::Result<()> {
@@ -70,7 +90,12 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
                 t.r * 3600.0 * 3600.0
             )?
         }
-        None => writeln!(out, "Baseline: {}", args.sim.as_ref().map_or(String::new(), |p| p.display().to_string()))?,
+        None => {
+            writeln!(out, "Baseline: {}", args.sim.as_ref().map_or(String::new(), |p| p.display().to_string()))?;
+            if let Some(t) = &d.recording_terms {
+                write_terms_beside_simulator(out, t, &d.baseline_model.axis)?;
+            }
+        }
     }
     if let Some(step) = d.grid_step {
         writeln!(out, "The recorded values sit on a {} deg/s grid.", fmt_num(step))?;

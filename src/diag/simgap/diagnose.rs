@@ -17,6 +17,7 @@
 //! [`super::builder`].
 
 use super::SimgapError;
+use super::baseline::fit_noise_terms;
 use super::builder::ModelBuilder;
 use super::effects::{TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
@@ -78,6 +79,16 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     let data = TrainingData { x: train, rate_hz, temp_c: recording.temp_c.map(|t| &t[..n_train]) };
     let builder = ModelBuilder { train: data, baseline, total_s: len as f64 / rate_hz, seed: settings.seed };
     let (baseline_model, baseline_terms) = builder.build(&[])?;
+    let recording_terms = match baseline {
+        Baseline::Fitted => None,
+        Baseline::Given(_) => match fit_noise_terms(train, rate_hz, builder.total_s, false) {
+            Ok(terms) => Some(terms),
+            Err(e) => {
+                tracing::warn!("the recording's own IEEE terms could not be fitted beside the simulator's: {e}");
+                None
+            }
+        },
+    };
     let mut setup = setup;
     if let Some(terms) = &baseline_terms {
         setup.perturbations = bootstrap(terms, rate_hz, n_train, builder.total_s, settings.ensemble, settings.seed)?;
@@ -239,6 +250,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         layout_hold,
         grid_step,
         baseline_terms,
+        recording_terms,
         baseline_model,
         before,
         effects,

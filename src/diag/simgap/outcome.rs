@@ -102,6 +102,10 @@ pub struct Diagnosis {
     pub grid_step: Option<f64>,
     /// The fitted noise terms (`None` with a given baseline).
     pub baseline_terms: Option<NoiseTerms>,
+    /// With a given simulator: the IEEE Std 952 terms fitted to the training part, to set beside
+    /// the simulator's own (a gap at short τ is then read off as "the simulator's N is low");
+    /// `None` with a fitted baseline, whose terms these are, or when the fit fails.
+    pub recording_terms: Option<NoiseTerms>,
     /// The baseline model.
     pub baseline_model: SimModel,
     /// The baseline's evaluation (the gap before).
