@@ -193,8 +193,9 @@ fn floor_sim(dir: &Path, case: &Value) -> std::path::PathBuf {
 /// 0.012 deg/s and 23 s on the generator's nominal floor (report seed 759, 4,420 s at 10 Hz) is
 /// taken by the fitted terms into their bias instability and rate random walk (no significant
 /// gap, nested test below its threshold), and found once the floor is given (its Gauss–Markov
-/// bank approximated by a flicker floor); the floor alone (report seed 2, the noisy floor) still
-/// shows no gap.
+/// bank approximated by a flicker floor); a warm-up beside a small Gauss–Markov process is named
+/// first (the detector test runs against the given model); the floor alone (report seed 2, the
+/// noisy floor) still shows no gap.
 #[test]
 fn with_its_simulator_given_the_diagnosis_finds_what_the_fitted_terms_absorb() {
     if !numpy_or_skip("with_its_simulator_given_the_diagnosis_finds_what_the_fitted_terms_absorb") {
@@ -207,6 +208,12 @@ fn with_its_simulator_given_the_diagnosis_finds_what_the_fitted_terms_absorb() {
     let sim = floor_sim(dir.path(), case);
     let given = ["--threads", "2", "--sim", sim.to_str().unwrap()];
     assert_eq!(outcome(dir.path(), case, &given), "gauss_markov");
+    // A warm-up beside a small Gauss–Markov process (report seed 775, quiet floor): with the
+    // floor given, the warm-up's own detector, tested against the given model, puts it first.
+    let dominant = generate(dir.path(), &["--first-seed", "775", "--per-class", "1", "--classes", "dominant"]);
+    assert_eq!(dominant[0]["sub"], "warmup+small_gauss_markov");
+    let sim = floor_sim(dir.path(), &dominant[0]);
+    assert_eq!(outcome(dir.path(), &dominant[0], &["--threads", "2", "--sim", sim.to_str().unwrap()]), "warmup");
     let control_dir = tempfile::tempdir().unwrap();
     let controls = generate(control_dir.path(), &["--first-seed", "2", "--per-class", "1", "--classes", "none"]);
     let sim = floor_sim(control_dir.path(), &controls[0]);

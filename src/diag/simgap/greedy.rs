@@ -17,6 +17,7 @@
 //! keeps the baseline's one false alarm in 100) and adding the effect is accepted against that
 //! null by the rule above. (This is the parametric bootstrap test of "effect = 0" with the
 //! nuisance parameters estimated under the alternative.)
+//! With a given simulator nothing is refitted, and the own null is the given model itself.
 //!
 //! **The detector test** (issue 16, item 3): the whole-vector gap dilutes one far-out statistic
 //! among ~50, so an effect whose own matched filter ([`own_detector`]: the warm-up amplitude, the

@@ -59,8 +59,8 @@ pub struct EffectResult {
     /// How it compares with the baseline.
     pub judgement: Option<Judgement>,
     /// Its own null ([`super::greedy`]): the refitted noise without the effect, evaluated and
-    /// tested at [`super::greedy::OWN_NULL_LEVEL`] (`None` when the effect has no deterministic part or the
-    /// baseline is given).
+    /// tested at [`super::greedy::OWN_NULL_LEVEL`]; with a given baseline, which is not refitted,
+    /// the baseline itself (`None` when the effect has no deterministic part).
     pub own_null: Option<Evaluation>,
     /// How baseline-refit + effect compares with its own null.
     pub own_null_judgement: Option<Judgement>,
