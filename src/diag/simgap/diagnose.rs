@@ -84,21 +84,23 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     let builder = ModelBuilder { train: data, baseline, total_s: len as f64 / rate_hz, seed: settings.seed };
     let (baseline_model, baseline_terms) = builder.build(&[])?;
     let given = matches!(baseline, Baseline::Given(_));
-    let recording_terms = match baseline {
-        Baseline::Fitted => None,
-        Baseline::Given(_) => match fit_noise_terms(train, rate_hz, builder.total_s, false) {
-            Ok(terms) => Some(terms),
-            Err(e) => {
-                tracing::warn!("the recording's own IEEE terms could not be fitted beside the simulator's: {e}");
-                None
-            }
-        },
+    let recording_terms = if given {
+        fit_noise_terms(train, rate_hz, builder.total_s, false)
+            .inspect_err(|e| {
+                tracing::warn!("the recording's own IEEE terms could not be fitted beside the simulator's: {e}")
+            })
+            .ok()
+    } else {
+        None
     };
     let mut setup = setup;
     if let Some(terms) = &baseline_terms {
         setup.perturbations = bootstrap(terms, rate_hz, n_train, builder.total_s, settings.ensemble, settings.seed)?;
     }
     let before = evaluate(&setup, &baseline_model)?;
+    // With a given simulator nothing is refitted: every effect's own null is the baseline itself,
+    // and its detector is tested against that.
+    let given_own_null = given.then(|| before.at_level(OWN_NULL_LEVEL));
     // Every model built, by its effects in the order added, so the final one is not refitted again.
     let mut built: Vec<(Vec<EffectKind>, SimModel)> = vec![(Vec::new(), baseline_model.clone())];
     let mut ensembles_run = 1;
@@ -124,9 +126,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                         ensembles_run += 1;
                         Some(evaluate(&setup, &null_model)?.at_level(OWN_NULL_LEVEL))
                     }
-                    // With a given simulator nothing is refitted: an effect's own null is the
-                    // baseline itself, and its detector is tested against that.
-                    None if given && effect.training_part.is_some() => Some(before.at_level(OWN_NULL_LEVEL)),
+                    None if effect.training_part.is_some() => given_own_null.clone(),
                     None => None,
                 };
                 let own_null_judgement = own_null.as_ref().map(|n| judge(n, &evaluation, settings.min_share));
