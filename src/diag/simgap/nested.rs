@@ -8,12 +8,17 @@
 //!
 //! **Statistic**: the Whittle likelihood ratio of the noise terms without and with the
 //! Gauss–Markov column, Λ = 2(ℓ₀ − min_T ℓ₁(T)) ≥ 0 ([`super::whittle`]: the periodogram of the
-//! training part, binned; the correlation time T on a log grid). A first version compared the
+//! whole recording, binned; the correlation time T on a log grid). The whole recording, not the
+//! training part: this is a test of presence, calibrated by its own null at the same length, so
+//! the hold-out part adds power without touching its role (the effects are still fitted on the
+//! training part and judged on the hold-out). A stationary process's Λ grows with the length, so
+//! the test sees ~1.4× the evidence of the training part's 70 %; on the tuning sets this found 13
+//! more of 60 Gauss–Markov cases the fitted terms had absorbed, with no control more named. A first version compared the
 //! weighted residuals of the Allan-variance fit instead: with a dozen octave points its null
 //! spread (members up to ln RSS₀/RSS₁ ≈ 1.9) covered the Gauss–Markov cases of the tuning set,
 //! where the periodogram's thousands of ordinates separate them.
 //!
-//! **Null**: Λ of [`NULL_MEMBERS`] series of the training part's length simulated from the
+//! **Null**: Λ of [`NULL_MEMBERS`] series of the recording's length simulated from the
 //! Whittle fit without the process (the null's maximum-likelihood estimate; simulated from the
 //! Allan-fitted terms instead, the null missed a rate random walk the Allan fit had set to zero
 //! and a tuning control was taken for a process), each fitted both ways: a parametric bootstrap of the
@@ -24,22 +29,29 @@
 //! **Tail**: under the null Λ is zero when the column does not raise the likelihood, and otherwise
 //! approximately exponential (χ²₂ for two added parameters is an exponential); so
 //! P(Λ > s) ≈ (1 − p₀)·e^(−s/μ), p₀ the share of null members at zero and μ the mean of the
-//! others. The process is present when the recording's Λ lies beyond the
-//! [`super::greedy::OWN_NULL_LEVEL`] quantile of that tail: one test, at the level of the
-//! effects' own-null tests. Like the detector test ([`super::greedy`]) it counts as the own-null
+//! others. The process is present when the recording's Λ lies beyond the [`NESTED_LEVEL`]
+//! quantile of that tail. Like the detector test ([`super::greedy`]) it counts as the own-null
 //! route only when the Gauss–Markov effect ranks first ([`mod@super::diagnose`]).
 
 use serde::Serialize;
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
-use super::greedy::OWN_NULL_LEVEL;
+use super::gap::NULL_LEVEL;
 use super::model::{member_seed, simulate};
 use super::whittle::{COLUMNS, Periodogram, columns, fit, set_gauss_markov_column};
 use crate::model::rng::splitmix64;
 
 /// Null series simulated.
 pub const NULL_MEMBERS: usize = 32;
+/// Level of the test: 1 − 0.01, the baseline gap test's ([`NULL_LEVEL`]). It was the effects'
+/// own-null level, 1 − 0.01/8 (Bonferroni over the eight effects), until the sixteenth session;
+/// but this is one test of the one effect that has no deterministic part, no own null and no
+/// matched filter, so no other route to be found when the fitted terms absorb it. Chosen on
+/// tuning seeds 1700–1799 (60 Gauss–Markov cases, 40 controls, 40 others): 0.99 named 7 more
+/// processes than 0.99875 and changed no control; a control's chance of a false name by it is at
+/// most 1 % (less, since it counts only where Gauss–Markov ranks first).
+pub const NESTED_LEVEL: f64 = NULL_LEVEL;
 /// Mixed into the seed so the null's series differ from the ensemble's and the bootstrap's.
 const NESTED_SEED: u64 = 0x6E57_ED00;
 /// A likelihood ratio below this counts as none (the fit's own rounding).
@@ -111,26 +123,27 @@ pub fn gauss_markov_gain(
     Ok((if gain > ZERO_GAIN { gain } else { 0.0 }, null_terms))
 }
 
-/// The test on `train` (at `rate_hz`); `baseline` (the Allan-fitted terms without the process)
+/// The test on `x` (the whole recording, at `rate_hz`); `baseline` (the Allan-fitted terms of the
+/// training part, without the process)
 /// starts the fits and gives the flicker floor's start, the model's flicker floor reaches
 /// `total_s`, `seed` seeds the null. The null is simulated from the Whittle fit without the
 /// process (its maximum-likelihood estimate, as the parametric bootstrap of a likelihood-ratio
 /// test needs: the ratio's null distribution depends on the nuisance terms).
 pub fn gauss_markov_test(
-    train: &[f64],
+    x: &[f64],
     rate_hz: f64,
     baseline: &NoiseTerms,
     total_s: f64,
     seed: u64,
 ) -> Result<NestedTest, SimgapError> {
     let dt = 1.0 / rate_hz;
-    let (statistic, null_terms) = gauss_markov_gain(train, dt, baseline, total_s)?;
+    let (statistic, null_terms) = gauss_markov_gain(x, dt, baseline, total_s)?;
     tracing::debug!("nested null terms: {null_terms:?}");
     let model = null_terms.to_model(rate_hz, total_s, 0.0);
     let null = (0..NULL_MEMBERS)
         .map(|j| {
-            let x = simulate(&model, rate_hz, train.len(), None, member_seed(splitmix64(seed ^ NESTED_SEED), j))?;
-            Ok(gauss_markov_gain(&x, dt, &null_terms, total_s)?.0)
+            let member = simulate(&model, rate_hz, x.len(), None, member_seed(splitmix64(seed ^ NESTED_SEED), j))?;
+            Ok(gauss_markov_gain(&member, dt, &null_terms, total_s)?.0)
         })
         .collect::<Result<Vec<f64>, SimgapError>>()?;
     tracing::debug!("nested null: {:?}", null.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>());
@@ -145,7 +158,7 @@ pub fn judge_gain(statistic: f64, null: &[f64]) -> NestedTest {
     // null of zeros does not pass any positive gain.
     let null_mean = if positive.is_empty() { ZERO_GAIN } else { positive.iter().sum::<f64>() / positive.len() as f64 };
     let positive_share = (1.0 - null_zero_share).max(1.0 / (null.len() + 1) as f64);
-    let threshold = null_mean * (positive_share / (1.0 - OWN_NULL_LEVEL)).ln().max(0.0);
+    let threshold = null_mean * (positive_share / (1.0 - NESTED_LEVEL)).ln().max(0.0);
     NestedTest { statistic, null_zero_share, null_mean, threshold, passed: statistic > threshold, outranked: false }
 }
 
@@ -156,7 +169,7 @@ mod tests {
     use crate::diag::simgap::model::SimModel;
 
     /// The threshold is the exponential tail's quantile: with half the null members at zero and
-    /// the others' mean 0.1 it is 0.1·ln(0.5 / 0.00125) = 0.5991 (by hand); a gain at it does not
+    /// the others' mean 0.1 it is 0.1·ln(0.5 / 0.01) = 0.3912 (by hand); a gain at it does not
     /// pass, one just above does.
     #[test]
     fn the_threshold_is_the_tail_quantile() {
@@ -164,7 +177,7 @@ mod tests {
         let test = judge_gain(0.0, &null);
         assert!((test.null_zero_share - 0.5).abs() < 1e-12);
         assert!((test.null_mean - 0.1).abs() < 1e-12);
-        assert!((test.threshold - 0.599_146_454_710_798).abs() < 1e-9, "{}", test.threshold);
+        assert!((test.threshold - 0.391_202_300_542_814_6).abs() < 1e-9, "{}", test.threshold);
         assert!(!judge_gain(test.threshold, &null).passed);
         assert!(judge_gain(test.threshold * 1.01, &null).passed);
         // A null of zeros only: no positive gain below its floor passes, a clear one does.
