@@ -121,20 +121,36 @@ fn an_absorbed_gauss_markov_process_is_found_by_the_nested_test() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let (_, doc) = one_case(dir.path(), "842", "gauss_markov");
-    let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
-    assert!(!significant("train") && !significant("holdout"), "the baseline alone shows a gap: {}", doc["before"]);
+    let (_, doc) = absorbed_then_named(dir.path(), "842");
     let gm = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "gauss_markov").unwrap();
     let nested = &gm["nested"];
     assert_eq!(nested["passed"], true, "{nested}");
     assert!(nested["statistic"].as_f64().unwrap() > 2.0 * nested["threshold"].as_f64().unwrap(), "{nested}");
-    assert_eq!(named_first(&doc), Some("gauss_markov"), "{}: {}", doc["verdict"], doc["chosen"]);
     let dir = tempfile::tempdir().unwrap();
-    let (case, doc) = one_case(dir.path(), "759", "gauss_markov");
+    let (case, _) = absorbed_then_named(dir.path(), "759");
     assert_eq!(case["floor"], "nominal");
+}
+
+/// The Gauss–Markov case of report `seed`, diagnosed into `dir`: the baseline alone shows no
+/// significant gap on either part, and `gauss_markov` is named first. Its manifest entry and JSON
+/// document.
+fn absorbed_then_named(dir: &Path, seed: &str) -> (Value, Value) {
+    let (case, doc) = one_case(dir, seed, "gauss_markov");
     let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
-    assert!(!significant("train") && !significant("holdout"), "the baseline alone shows a gap: {}", doc["before"]);
-    assert_eq!(named_first(&doc), Some("gauss_markov"), "{}: {}", doc["verdict"], doc["chosen"]);
+    assert!(
+        !significant("train") && !significant("holdout"),
+        "seed {seed}: the baseline alone shows a gap: {}",
+        doc["before"]
+    );
+    assert_eq!(
+        named_first(&doc),
+        Some("gauss_markov"),
+        "seed {seed} ({}): {}: {}",
+        case["floor"],
+        doc["verdict"],
+        doc["chosen"]
+    );
+    (case, doc)
 }
 
 /// A ramp (report seed 649, the generator's "ramp": +0.17 deg/s over 3,906 s at 10 Hz on its
@@ -202,10 +218,11 @@ fn floor_sim(dir: &Path, case: &Value) -> std::path::PathBuf {
 /// 0.0010 deg/s and 42 s on the generator's quiet floor (report seed 758, 4,571 s at 10 Hz) is
 /// taken by the fitted terms into their bias instability and rate random walk (no significant
 /// gap, nested test below its threshold), and found once the floor is given (its Gauss–Markov
-/// bank approximated by a flicker floor); (report seed 759, used here until the sixteenth
-/// session, is now found with fitted terms too: [`an_absorbed_gauss_markov_process_is_found_by_the_nested_test`]); a warm-up beside a small Gauss–Markov process is named
-/// first (the detector test runs against the given model); the floor alone (report seed 2, the
-/// noisy floor) still shows no gap.
+/// bank approximated by a flicker floor) — report seed 759, used here until the sixteenth
+/// session, is now found with fitted terms too
+/// ([`an_absorbed_gauss_markov_process_is_found_by_the_nested_test`]); a warm-up beside a small
+/// Gauss–Markov process is named first (the detector test runs against the given model); the
+/// floor alone (report seed 2, the noisy floor) still shows no gap.
 #[test]
 fn with_its_simulator_given_the_diagnosis_finds_what_the_fitted_terms_absorb() {
     if !numpy_or_skip("with_its_simulator_given_the_diagnosis_finds_what_the_fitted_terms_absorb") {

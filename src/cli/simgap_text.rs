@@ -50,9 +50,9 @@ fn write_terms_beside_simulator(out: &mut impl Write, t: &NoiseTerms, sim: &Axis
     let show = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.3}"));
     writeln!(out, "  {:<22} {:>12} {:>12}", "IEEE Std 952 term", "simulator", "recording")?;
     for (name, simulated, recorded) in [
-        ("N, deg/√h", sim.arw_deg_rt_h, t.n * 60.0),
-        ("B, deg/h", b_sim, t.b * 3600.0),
-        ("K, deg/h/√h", sim.rrw_deg_h_rt_h, t.k * 216_000.0),
+        ("N, deg/√h", sim.arw_deg_rt_h, t.n_deg_rt_h()),
+        ("B, deg/h", b_sim, t.b_deg_h()),
+        ("K, deg/h/√h", sim.rrw_deg_h_rt_h, t.k_deg_h_rt_h()),
     ] {
         writeln!(out, "  {name:<22} {:>12} {recorded:>12.3}", show(simulated))?;
     }
@@ -77,10 +77,10 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
             writeln!(
                 out,
                 "Baseline: IEEE Std 952 terms fitted to the training part (robust Allan deviation): N {:.4} deg/√h, B {:.3} deg/h (flicker floor from {} s), K {:.3} deg/h/√h, Q {:.3e} deg; Allan misfit {:.3}",
-                t.n * 60.0,
-                t.b * 3600.0,
+                t.n_deg_rt_h(),
+                t.b_deg_h(),
                 fmt_num(t.floor_from_s),
-                t.k * 216_000.0,
+                t.k_deg_h_rt_h(),
                 t.q,
                 t.rms_relative_residual
             )?;

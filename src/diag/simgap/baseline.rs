@@ -56,18 +56,33 @@ pub struct NoiseTerms {
 }
 
 impl NoiseTerms {
+    /// N in the datasheet's deg/√h (the simulator config's `arw_deg_rt_h`).
+    pub fn n_deg_rt_h(&self) -> f64 {
+        self.n * 60.0
+    }
+
+    /// B in the datasheet's deg/h (the simulator config's `b_deg_h`).
+    pub fn b_deg_h(&self) -> f64 {
+        self.b * 3600.0
+    }
+
+    /// K in the datasheet's deg/h/√h (the simulator config's `rrw_deg_h_rt_h`): 3600 · 60.
+    pub fn k_deg_h_rt_h(&self) -> f64 {
+        self.k * 216_000.0
+    }
+
     /// The simulator model of these terms for a recording of `total_s` seconds at `rate_hz` with
     /// mean `bias_dps`.
     pub fn to_model(&self, rate_hz: f64, total_s: f64, bias_dps: f64) -> SimModel {
         let axis = AxisConfig {
             bias_dps: Some(bias_dps),
-            arw_deg_rt_h: (self.n > 0.0).then_some(self.n * 60.0),
+            arw_deg_rt_h: (self.n > 0.0).then_some(self.n_deg_rt_h()),
             bias_instability: (self.b > 0.0).then(|| BiasInstability::Flicker {
-                b_deg_h: self.b * 3600.0,
+                b_deg_h: self.b_deg_h(),
                 floor_from_s: self.floor_from_s,
                 floor_to_s: total_s.max(2.0 / rate_hz),
             }),
-            rrw_deg_h_rt_h: (self.k > 0.0).then_some(self.k * 216_000.0),
+            rrw_deg_h_rt_h: (self.k > 0.0).then_some(self.k_deg_h_rt_h()),
             ..AxisConfig::default()
         };
         SimModel {

@@ -13,8 +13,8 @@
 //! the hold-out part adds power without touching its role (the effects are still fitted on the
 //! training part and judged on the hold-out). A stationary process's Λ grows with the length, so
 //! the test sees ~1.4× the evidence of the training part's 70 %; on the tuning sets this found 13
-//! more of 60 Gauss–Markov cases the fitted terms had absorbed, with no control more named. A first version compared the
-//! weighted residuals of the Allan-variance fit instead: with a dozen octave points its null
+//! more of 60 Gauss–Markov cases the fitted terms had absorbed, with no control more named.
+//! A first version compared the weighted residuals of the Allan-variance fit instead: with a dozen octave points its null
 //! spread (members up to ln RSS₀/RSS₁ ≈ 1.9) covered the Gauss–Markov cases of the tuning set,
 //! where the periodogram's thousands of ordinates separate them.
 //!
@@ -124,9 +124,8 @@ pub fn gauss_markov_gain(
 }
 
 /// The test on `x` (the whole recording, at `rate_hz`); `baseline` (the Allan-fitted terms of the
-/// training part, without the process)
-/// starts the fits and gives the flicker floor's start, the model's flicker floor reaches
-/// `total_s`, `seed` seeds the null. The null is simulated from the Whittle fit without the
+/// training part, without the process) starts the fits and gives the flicker floor's start, the
+/// model's flicker floor reaches `total_s`, `seed` seeds the null. The null is simulated from the Whittle fit without the
 /// process (its maximum-likelihood estimate, as the parametric bootstrap of a likelihood-ratio
 /// test needs: the ratio's null distribution depends on the nuisance terms).
 pub fn gauss_markov_test(
