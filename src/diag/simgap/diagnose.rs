@@ -130,8 +130,9 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     None => None,
                 };
                 let own_null_judgement = own_null.as_ref().map(|n| judge(n, &evaluation, settings.min_share));
-                let detector =
-                    own_null.as_ref().and_then(|n| detector_test(*kind, setup.layout_train.info(), n, &evaluation));
+                let detector = own_null.as_ref().and_then(|n| {
+                    detector_test(*kind, setup.layout_train.info(), setup.layout_hold.info(), n, &evaluation)
+                });
                 let nested = match (&baseline_terms, kind) {
                     (Some(terms), EffectKind::GaussMarkov) => {
                         // A test of presence with its own null: on the whole recording, where a

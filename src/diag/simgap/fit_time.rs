@@ -87,6 +87,19 @@ pub fn fit_ramp(x: &[f64], rate_hz: f64) -> Fitted {
     })
 }
 
+/// The change (deg/s) of the least-squares line of the 1 s means of `x` over the part's duration:
+/// the ramp's matched filter (the slope of [`fit_ramp`] on block means, times the duration), so its
+/// scale does not depend on the part's length; 0 for fewer than two blocks.
+pub fn ramp_change(x: &[f64], rate_hz: f64) -> f64 {
+    let block = second_blocks(rate_hz);
+    let y = block_means(x, block);
+    if y.len() < 2 {
+        return 0.0;
+    }
+    let t = block_times(y.len(), block, rate_hz);
+    linear_fit(&t, &y).0 * x.len() as f64 / rate_hz
+}
+
 /// Least-squares slope (deg/s per °C) of 1 s means of `x` on 1 s means of `temp_c` (same length).
 pub fn temperature_slope(x: &[f64], temp_c: &[f64], rate_hz: f64) -> f64 {
     let block = second_blocks(rate_hz);
@@ -140,6 +153,23 @@ mod tests {
         let EffectParams::Temperature { dps_per_c, .. } = params(fit_temperature(&rate, &temp, fs)) else { panic!() };
         assert!((dps_per_c - 0.01).abs() < 1e-9);
         assert!(matches!(fit_temperature(&rate, &vec![25.0; n], fs), Fitted::NotApplicable(_)));
+    }
+
+    #[test]
+    fn ramp_change_is_the_change_over_the_part_at_any_rate_and_length() {
+        // A line of 0.02 deg/s over the part, at 10 Hz and 100 Hz and over two lengths: the
+        // statistic is the line's change, not its slope, so it compares parts of any length.
+        for (fs, seconds) in [(10.0, 3_000.0), (100.0, 600.0), (10.0, 777.7)] {
+            let n = (fs * seconds) as usize;
+            let x: Vec<f64> = (0..n).map(|k| -0.4 + 0.02 * k as f64 / n as f64).collect();
+            let change = ramp_change(&x, fs);
+            assert!((change - 0.02).abs() < 2e-4, "{fs} Hz, {seconds} s: {change}");
+            let flat = vec![0.3; n];
+            assert!(ramp_change(&flat, fs).abs() < 1e-12);
+            let down: Vec<f64> = x.iter().map(|v| -v).collect();
+            assert!((ramp_change(&down, fs) + change).abs() < 1e-12);
+        }
+        assert_eq!(ramp_change(&[0.1; 15], 10.0), 0.0, "one 1 s block has no line");
     }
 
     fn params_slope(x: &[f64], fs: f64) -> f64 {

@@ -21,7 +21,7 @@
 //!
 //! **The detector test** (issue 16, item 3): the whole-vector gap dilutes one far-out statistic
 //! among ~50, so an effect whose own matched filter ([`own_detector`]: the warm-up amplitude, the
-//! temperature slope, the slow spectral line, the strongest step) stands out against its own null
+//! ramp's change, the temperature slope, the slow spectral line, the strongest step) stands out against its own null
 //! beyond the [`OWN_NULL_LEVEL`] normal quantile, and lies within [`DETECTOR_MODEL_Z`] of the
 //! effect's model, is also accepted by the own-null route ([`detector_test`]) — but only when it
 //! ranks first: a slow bias motion also correlates with the recorded temperature and looks like
@@ -70,16 +70,32 @@ pub const OWN_NULL_LEVEL: f64 = 1.0 - 0.01 / 8.0;
 /// count: the fitted effect must bring its matched filter back inside the band.
 pub const DETECTOR_MODEL_Z: f64 = 2.0;
 
-/// The detector statistic ([`super::stats`], group "effect detectors") that is an effect's matched
-/// filter, and whether both of its tails count (a signed amplitude or slope) or only the upper.
-pub fn own_detector(kind: EffectKind) -> Option<(&'static str, bool)> {
-    match kind {
-        EffectKind::Warmup => Some(("warmup_amplitude", true)),
-        EffectKind::Temperature => Some(("temperature_slope", true)),
-        EffectKind::Sinusoid => Some(("slow_line", false)),
-        EffectKind::BiasJumps => Some(("strongest_step", false)),
-        _ => None,
-    }
+/// An effect's matched filter ([`super::stats`], groups "effect detectors" and "derived"): the
+/// statistic, whether both of its tails count (a signed amplitude or slope) or only the upper, and
+/// whether the effect must also *continue* into the hold-out part.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OwnDetector {
+    /// The statistic's name ([`StatInfo::statistic`]).
+    pub statistic: &'static str,
+    /// Both tails count.
+    pub two_tailed: bool,
+    /// The hold-out part's z against the own null must have the training part's sign: a trend
+    /// fitted on the training part goes on after it, while the slope a random walk shows over one
+    /// stretch says nothing about the next (the ramp; a warm-up has decayed by the hold-out).
+    pub continues: bool,
+}
+
+/// The matched filter of `kind`, if it has one.
+pub fn own_detector(kind: EffectKind) -> Option<OwnDetector> {
+    let (statistic, two_tailed, continues) = match kind {
+        EffectKind::Warmup => ("warmup_amplitude", true, false),
+        EffectKind::Ramp => ("ramp_change", true, true),
+        EffectKind::Temperature => ("temperature_slope", true, false),
+        EffectKind::Sinusoid => ("slow_line", false, false),
+        EffectKind::BiasJumps => ("strongest_step", false, false),
+        _ => return None,
+    };
+    Some(OwnDetector { statistic, two_tailed, continues })
 }
 
 /// The test of an effect on its own matched filter: the detector's standard score against the
@@ -92,6 +108,9 @@ pub struct DetectorTest {
     pub z_null: f64,
     /// Its z on the training part against the effect's model.
     pub z_model: f64,
+    /// Its z on the hold-out part against the own null, for a detector that must continue there
+    /// ([`OwnDetector::continues`]).
+    pub z_null_holdout: Option<f64>,
     /// Whether another effect ranks better (then the test does not pass).
     pub outranked: bool,
     /// Whether the test passes.
@@ -106,26 +125,35 @@ impl DetectorTest {
     }
 }
 
-/// The detector test of `kind` (`None` when the effect has no detector in `info`): it passes when
-/// the detector lies beyond the [`OWN_NULL_LEVEL`] normal quantile of its own null (the upper
-/// one, or either at half the level for a two-tailed detector) and within
-/// [`DETECTOR_MODEL_Z`] of the effect's model.
+/// The detector test of `kind` (`None` when the effect has no detector in `train_info`): it passes
+/// when the detector lies beyond the [`OWN_NULL_LEVEL`] normal quantile of its own null (the upper
+/// one, or either at half the level for a two-tailed detector) and within [`DETECTOR_MODEL_Z`] of
+/// the effect's model on the training part, and, for a detector that must continue
+/// ([`OwnDetector::continues`]), when its hold-out z against the own null (statistics of
+/// `hold_info`) has the training z's sign.
 pub fn detector_test(
     kind: EffectKind,
-    info: &[StatInfo],
+    train_info: &[StatInfo],
+    hold_info: &[StatInfo],
     own_null: &Evaluation,
     model: &Evaluation,
 ) -> Option<DetectorTest> {
-    let (statistic, two_tailed) = own_detector(kind)?;
-    let i = info.iter().position(|s| s.statistic == statistic)?;
+    let OwnDetector { statistic, two_tailed, continues } = own_detector(kind)?;
+    let i = train_info.iter().position(|s| s.statistic == statistic)?;
     let (z_null, z_model) = (own_null.train.z[i], model.train.z[i]);
     let beyond = if two_tailed {
         z_null.abs() > normal_quantile(1.0 - 0.5 * (1.0 - OWN_NULL_LEVEL))
     } else {
         z_null > normal_quantile(OWN_NULL_LEVEL)
     };
-    let passed = beyond && z_model.abs() < DETECTOR_MODEL_Z;
-    Some(DetectorTest { statistic, z_null, z_model, outranked: false, passed })
+    let z_null_holdout = if continues {
+        Some(hold_info.iter().position(|s| s.statistic == statistic).map_or(f64::NAN, |j| own_null.hold.z[j]))
+    } else {
+        None
+    };
+    let goes_on = z_null_holdout.is_none_or(|h| h * z_null > 0.0);
+    let passed = beyond && z_model.abs() < DETECTOR_MODEL_Z && goes_on;
+    Some(DetectorTest { statistic, z_null, z_model, z_null_holdout, outranked: false, passed })
 }
 
 /// Share of the excess gap² that the kept effects must remove on every significant part of the
@@ -378,16 +406,49 @@ mod tests {
         let sd = at(0.0).train.bands[1].sd;
         let (far, near) = (at(-4.0 * sd), at(0.5 * sd));
         let passed = |null: &Evaluation, model: &Evaluation| {
-            detector_test(EffectKind::Temperature, &info, null, model).map(|t| t.passed)
+            detector_test(EffectKind::Temperature, &info, &info, null, model).map(|t| t.passed)
         };
         assert_eq!(passed(&far, &near), Some(true));
         assert_eq!(passed(&near, &near), Some(false));
         assert_eq!(passed(&far, &far), Some(false));
         assert_eq!(passed(&at(-2.5 * sd), &near), Some(false), "below the Bonferroni level");
-        assert_eq!(detector_test(EffectKind::Ramp, &info, &far, &near), None);
-        let mut test = detector_test(EffectKind::Temperature, &info, &far, &near).unwrap();
+        assert_eq!(detector_test(EffectKind::Ramp, &info, &info, &far, &near), None);
+        let mut test = detector_test(EffectKind::Temperature, &info, &info, &far, &near).unwrap();
         test.outranked();
         assert!(!test.passed && test.outranked);
+    }
+
+    /// The ramp's detector must also go on in the hold-out part: a training slope far out against
+    /// the own null passes when the hold-out leans the same way (even weakly), not when it turns
+    /// back, as the slope of a random walk over one stretch does half the time.
+    #[test]
+    fn the_ramp_detector_needs_the_trend_to_go_on() {
+        let info = vec![StatInfo {
+            statistic: "ramp_change",
+            band: String::new(),
+            group: Group::Derived,
+            scale: Scale::Linear,
+            unit: "deg/s",
+            x: f64::NAN,
+        }];
+        let at = |train: f64, hold: f64| {
+            let m = uniform_members(40, 1, 7);
+            Evaluation {
+                train: PartComparison::new(&info, vec![train], &m),
+                hold: PartComparison::new(&info, vec![hold], &m),
+            }
+        };
+        let sd = at(0.0, 0.0).train.bands[0].sd;
+        let near = at(0.3 * sd, 0.1 * sd);
+        let test =
+            |train: f64, hold: f64| detector_test(EffectKind::Ramp, &info, &info, &at(train, hold), &near).unwrap();
+        let goes_on = test(-5.0 * sd, -0.4 * sd);
+        assert!(goes_on.passed, "{goes_on:?}");
+        assert!(goes_on.z_null_holdout.is_some_and(|z| z < 0.0));
+        assert!(!test(-5.0 * sd, 0.4 * sd).passed, "the hold-out turns back");
+        assert!(!test(-2.0 * sd, -2.0 * sd).passed, "below the Bonferroni level");
+        // A detector that need not go on (the warm-up's, decayed by the hold-out) has no such check.
+        assert_eq!(own_detector(EffectKind::Warmup).map(|d| d.continues), Some(false));
     }
 
     /// A partial explanation needs a significant reference and most of its excess gap² removed:

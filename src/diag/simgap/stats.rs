@@ -22,7 +22,9 @@
 //!   random walk that reaches the same Allan deviation wanders about its line.
 //! - **Effect detectors** — the fits of the effects, used as matched filters: the amplitude of the
 //!   best warm-up exponential from the part's start ([`super::fit_time::warmup_fit`], deg/s), the
-//!   strongest spectral line of the 1 s means against its neighbours (the full-length periodogram
+//!   change over the part of the least-squares line of the 1 s means
+//!   ([`super::fit_time::ramp_change`], deg/s: the ramp's; a line through the bias trajectory,
+//!   so in its own group [`Group::Derived`], outside the gap), the strongest spectral line of the 1 s means against its neighbours (the full-length periodogram
 //!   of [`super::fit_spectral::LineSearch`] with the neighbours' reach: from the 17th bin of the
 //!   zero-padded periodogram, 9–17 cycles per part by its length; log10), the strongest step of
 //!   the jump detector in robust σ ([`super::fit_events::StepScores`], log10) and, when the
@@ -35,7 +37,7 @@ use serde::Serialize;
 use super::SimgapError;
 use super::fit_events::StepScores;
 use super::fit_spectral::{LineSearch, Reach};
-use super::fit_time::{temperature_slope, warmup_fit};
+use super::fit_time::{ramp_change, temperature_slope, warmup_fit};
 use super::robust::{block_means, kurtosis, linear_fit, median};
 use crate::diag::allan::{Taus, oadev};
 use crate::diag::psd::welch;
@@ -89,12 +91,18 @@ pub enum Group {
     Trajectory,
     /// Means of the blocks of growing length at the start.
     EarlyTrajectory,
-    /// Effect detectors (strongest step, temperature slope).
+    /// Effect detectors (warm-up amplitude, slow line, strongest step, temperature slope).
     Detectors,
+    /// Matched filters that are functions of statistics already in the gap (the ramp's change, a
+    /// line through the bias trajectory's block means): in the vector for the detector test
+    /// ([`super::greedy::detector_test`]) and the report's *where*, not in the gap or the score,
+    /// which would count the same evidence twice.
+    Derived,
 }
 
 impl Group {
-    /// Every group, in report order.
+    /// Every group the gap and the score average over, in report order ([`Group::Derived`] is not
+    /// one of them).
     pub const ALL: [Group; 10] = [
         Group::AllanShort,
         Group::AllanMid,
@@ -121,6 +129,7 @@ impl Group {
             Group::Trajectory => "bias trajectory",
             Group::EarlyTrajectory => "early bias trajectory",
             Group::Detectors => "effect detectors",
+            Group::Derived => "derived matched filters (not in the gap)",
         }
     }
 }
@@ -313,6 +322,14 @@ impl StatLayout {
             x: f64::NAN,
         });
         info.push(StatInfo {
+            statistic: "ramp_change",
+            band: "least-squares line of the 1 s means: its change over the part".into(),
+            group: Group::Derived,
+            scale: Scale::Linear,
+            unit: "deg/s",
+            x: f64::NAN,
+        });
+        info.push(StatInfo {
             statistic: "slow_line",
             band: "strongest line of the 1 s means / median of its 32 neighbours".into(),
             group: Group::Detectors,
@@ -404,6 +421,7 @@ impl StatLayout {
         let rough = centres.iter().zip(&blocks).map(|(c, b)| (b - intercept - slope * c).powi(2)).sum::<f64>();
         out.push(log10((rough / TRAJECTORY_BLOCKS as f64).sqrt()));
         out.push(warmup_fit(x, self.rate_hz).map_or(0.0, |(amplitude, _)| amplitude));
+        out.push(ramp_change(x, self.rate_hz));
         let second = (self.rate_hz.round() as usize).max(1);
         let slow_rate = self.rate_hz / second as f64;
         out.push(log10(LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours).map_or(0.0, |l| l.ratio)));
