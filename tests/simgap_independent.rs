@@ -7,10 +7,10 @@
 //! Asserted: pure-IEEE recordings (the floor alone) get "no significant gap"; a Gauss–Markov
 //! process the IEEE terms absorb is found by the nested-model test; a ramp is not named a
 //! warm-up whose time constant the data do not bound; a slow ramp the IEEE terms absorb is found
-//! by its matched filter (a tuning seed, the case that filter was chosen on); with the case's floor given as the
-//! simulator (`--sim`, tools/simgap/score.py `--given-floor`), what the fitted terms absorb is
-//! found and a pure floor still shows no gap; and (ignored by
-//! default, heavy) on the report set of docs/evaluation.md "Independent cases" the classes named
+//! by its matched filter (a tuning seed, the case that filter was chosen on); with the case's
+//! floor given as the simulator (`--sim`, tools/simgap/score.py `--given-floor`), what the fitted
+//! terms absorb is found and a pure floor still shows no gap; and (ignored by default, heavy) on
+//! the report set of docs/evaluation.md "Independent cases" the classes named
 //! right there stay at their measured counts minus a margin.
 
 #[allow(dead_code)] // its iceoryx2 probe is not used here

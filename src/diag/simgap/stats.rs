@@ -24,7 +24,8 @@
 //!   best warm-up exponential from the part's start ([`super::fit_time::warmup_fit`], deg/s), the
 //!   change over the part of the least-squares line of the 1 s means
 //!   ([`super::fit_time::ramp_change`], deg/s: the ramp's; a line through the bias trajectory,
-//!   so in its own group [`Group::Derived`], outside the gap), the strongest spectral line of the 1 s means against its neighbours (the full-length periodogram
+//!   so in its own group [`Group::Derived`], outside the gap), the strongest spectral line of the
+//!   1 s means against its neighbours (the full-length periodogram
 //!   of [`super::fit_spectral::LineSearch`] with the neighbours' reach: from the 17th bin of the
 //!   zero-padded periodogram, 9–17 cycles per part by its length; log10), the strongest step of
 //!   the jump detector in robust σ ([`super::fit_events::StepScores`], log10) and, when the
