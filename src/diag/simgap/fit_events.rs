@@ -4,7 +4,11 @@
 //!   each point, d\[i] = mean(y[i..i+W]) − mean(y[i−W..i]), W = 60 s (at most an eighth of the
 //!   part). A jump of size s shows as a peak |d| ≈ |s|; the slow wander of the bias (flicker, rate
 //!   random walk) does not. Peaks above [`JUMP_SIGMAS`] robust σ of d (1.4826·MAD), at least W
-//!   apart, are the jumps.
+//!   apart, are the jumps, when they are steps' peaks: the largest |d| within W on each side, with
+//!   at least W/2 positions on each side. A warm-up's decay makes |d| largest at the first
+//!   position and falling from there: a transient whose start the detector cannot see, not a step
+//!   it can place (and a step that close to the ends cannot be told from one), and its flank is
+//!   not a peak of its own (on a slow flank a bump of the noise still can be).
 //! - **Spikes**: r\[k] = x\[k] − median(x[k−2..=k+2]); samples with |r| above [`SPIKE_SIGMAS`]
 //!   robust σ of r that are the largest |r| within ±2 samples.
 //! - **Quantisation**: the values sit on a grid when there are few distinct ones (at most a
@@ -74,7 +78,8 @@ pub fn fit_jumps(x: &[f64], rate_hz: f64) -> Fitted {
     let Some(StepScores { block, window: w, positions, d, sigma }) = StepScores::of(x, rate_hz) else {
         return Fitted::NotApplicable("training part too short for the jump detector, or constant".into());
     };
-    let mut order: Vec<usize> = (0..d.len()).filter(|&j| d[j].abs() > JUMP_SIGMAS * sigma).collect();
+    let mut order: Vec<usize> =
+        (0..d.len()).filter(|&j| d[j].abs() > JUMP_SIGMAS * sigma && is_step_peak(&d, j, w)).collect();
     order.sort_by(|&a, &b| d[b].abs().total_cmp(&d[a].abs()));
     let mut jumps: Vec<(usize, f64)> = Vec::new();
     for j in order {
@@ -106,6 +111,18 @@ pub fn fit_jumps(x: &[f64], rate_hz: f64) -> Fitted {
         },
         training_part: Some(part),
     })
+}
+
+/// Whether the window difference `d` has a step's peak at position `j` (module docs): |d\[j]|
+/// is the largest within `w` positions on each side, and at least `w`/2 positions lie on each
+/// side.
+fn is_step_peak(d: &[f64], j: usize, w: usize) -> bool {
+    let half = (w / 2).max(1);
+    if j < half || j + half >= d.len() {
+        return false;
+    }
+    let peak = d[j].abs();
+    d[j.saturating_sub(w)..(j + w + 1).min(d.len())].iter().all(|v| v.abs() <= peak)
 }
 
 /// Residual of each sample from the median of its 5-sample neighbourhood (0 at the two ends).
@@ -217,6 +234,34 @@ mod tests {
         let part = e.training_part.unwrap();
         assert!(part[5_000].abs() < 1e-12 && (part[20_000] - 0.08).abs() < 0.01);
         assert!(matches!(fit_jumps(&noise(36_000, 2, 0.4), 10.0), Fitted::NotApplicable(_)));
+    }
+
+    #[test]
+    fn a_warm_up_is_not_a_jump_but_a_step_near_the_start_is() {
+        // A 100 s warm-up moves |d| well past the threshold at the first positions, but |d| is
+        // largest at the first one and falls from there: no step's peak, and none on its flank
+        // (dominant report cases 767 and 777 were named bias_jumps for such a "step"). On a slower
+        // flank (200 s here) a bump of the noise can still make a peak of its own: a limit.
+        for time_constant_s in [60.0, 100.0] {
+            let warm: Vec<f64> = noise(36_000, 11, 0.4)
+                .iter()
+                .enumerate()
+                .map(|(k, v)| v + 0.3 * (-(k as f64) / 10.0 / time_constant_s).exp())
+                .collect();
+            let scores = StepScores::of(&warm, 10.0).unwrap();
+            assert!(scores.strongest() > 1.5 * JUMP_SIGMAS, "{}", scores.strongest());
+            let found = fit_jumps(&warm, 10.0);
+            assert!(matches!(found, Fitted::NotApplicable(_)), "{time_constant_s} s: {found:?}");
+        }
+        // A step 100 s in (40 window positions, past half a window) is still placed.
+        let mut step = noise(36_000, 12, 0.4);
+        for v in step.iter_mut().skip(1_000) {
+            *v += 0.08;
+        }
+        let Fitted::Found(e) = fit_jumps(&step, 10.0) else { panic!() };
+        assert!(matches!(e.params, EffectParams::BiasJumps { detected: 1, .. }), "{:?}", e.params);
+        let part = e.training_part.unwrap();
+        assert!(part[900].abs() < 1e-12 && (part[1_100] - 0.08).abs() < 0.01);
     }
 
     #[test]
