@@ -121,8 +121,13 @@ fn is_step_peak(d: &[f64], j: usize, w: usize) -> bool {
     if j < half || j + half >= d.len() {
         return false;
     }
-    let peak = d[j].abs();
-    d[j.saturating_sub(w)..(j + w + 1).min(d.len())].iter().all(|v| v.abs() <= peak)
+    is_largest_within(d, j, w)
+}
+
+/// Whether |`v`\[k]| is the largest |v| within `reach` positions on each side (as far as `v` goes).
+fn is_largest_within(v: &[f64], k: usize, reach: usize) -> bool {
+    let peak = v[k].abs();
+    v[k.saturating_sub(reach)..(k + reach + 1).min(v.len())].iter().all(|x| x.abs() <= peak)
 }
 
 /// Residual of each sample from the median of its 5-sample neighbourhood (0 at the two ends).
@@ -144,9 +149,8 @@ pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
         return Fitted::NotApplicable("constant series".into());
     }
     let limit = SPIKE_SIGMAS * sigma;
-    let spikes: Vec<usize> = (2..x.len().saturating_sub(2))
-        .filter(|&k| r[k].abs() > limit && (k - 2..=k + 2).all(|j| r[j].abs() <= r[k].abs()))
-        .collect();
+    let spikes: Vec<usize> =
+        (2..x.len().saturating_sub(2)).filter(|&k| r[k].abs() > limit && is_largest_within(&r, k, 2)).collect();
     if spikes.is_empty() {
         return Fitted::NotApplicable(format!("no sample beyond {SPIKE_SIGMAS} robust sigma"));
     }

@@ -23,9 +23,10 @@
 //! among ~50, so an effect whose own matched filter ([`own_detector`]: the warm-up amplitude, the
 //! ramp's change, the temperature slope, the slow spectral line, the strongest step) stands out
 //! against its own null beyond the [`OWN_NULL_LEVEL`] normal quantile, and lies within
-//! [`DETECTOR_MODEL_Z`] of the effect's model, is also accepted by the own-null route ([`detector_test`]) — but only when it
-//! ranks first: a slow bias motion also correlates with the recorded temperature and looks like
-//! the start of a warm-up, so the other effects' filters pass by what the best one explains.
+//! [`DETECTOR_MODEL_Z`] of the effect's model, is also accepted by the own-null route
+//! ([`detector_test`]) — but only when it ranks first: a slow bias motion also correlates with the
+//! recorded temperature and looks like the start of a warm-up, so the other effects' filters pass
+//! by what the best one explains.
 //!
 //! **Ranking**: by the mean of the training and hold-out Dawid–Sebastiani scores
 //! ([`super::gap::GapScore::log_score`], best first). The gap alone rewards an effect that only
