@@ -26,7 +26,7 @@
 
 use serde::Serialize;
 
-use super::band::{Band, MIN_SD, bands};
+use super::band::{Band, MIN_SD, bands, gumbel_parameters};
 use super::stats::{Group, Scale, StatInfo};
 use crate::model::metrics::{quantile_sorted, sample_std_dev};
 
@@ -71,7 +71,7 @@ pub struct GapScore {
 
 /// Scores `values` against `bands`; returns each statistic's z and the summary.
 pub fn score(info: &[StatInfo], bands: &[Band], values: &[f64]) -> (Vec<f64>, GapScore) {
-    let z: Vec<f64> = bands.iter().zip(values).map(|(b, &v)| b.z(v)).collect();
+    let z: Vec<f64> = bands.iter().zip(values).zip(info).map(|((b, &v), i)| b.z_on(i.scale, v)).collect();
     let mut groups = Vec::new();
     let mut log_score = 0.0;
     for group in Group::ALL {
@@ -222,11 +222,10 @@ pub fn null(info: &[StatInfo], members: &[Vec<f64>]) -> Null {
 }
 
 /// The `p` quantile of the Gumbel (maximum) law with the mean and standard deviation of `m`
-/// (method of moments: β = sd·√6/π, μ = mean − γβ; quantile μ − β·ln(−ln p)).
+/// ([`gumbel_parameters`]: quantile μ − β·ln(−ln p)).
 pub fn gumbel_quantile(m: Moments, p: f64) -> f64 {
-    const EULER_GAMMA: f64 = 0.577_215_664_901_532_9;
-    let beta = m.sd * 6f64.sqrt() / std::f64::consts::PI;
-    m.mean - EULER_GAMMA * beta - beta * (-p.ln()).ln()
+    let (mu, beta) = gumbel_parameters(m.mean, m.sd);
+    mu - beta * (-p.ln()).ln()
 }
 
 /// A part of the recording compared with its simulated ensemble.
