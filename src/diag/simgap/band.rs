@@ -71,12 +71,13 @@ impl Band {
         if scale != Scale::Maximum || !v.is_finite() {
             return self.z(v);
         }
-        let (mu, beta) = gumbel_parameters(self.mean, self.sd.max(MIN_SD));
+        let sd = self.sd.max(MIN_SD);
+        let (mu, beta) = gumbel_parameters(self.mean, sd);
         let law_median = mu - beta * std::f64::consts::LN_2.ln();
         if v < law_median {
             // Below the law's median a maximum is scored as normal: a weaker strongest line is
             // no effect's signature, and the Gumbel law's thin lower tail would make it one.
-            return (v - law_median) / self.sd.max(MIN_SD);
+            return (v - law_median) / sd;
         }
         // ln(1 − G) = ln(−expm1(−e^(−u))), which is −u − e^(−u)/2 + … far out (u > 0 here).
         let u = (v - mu) / beta;
