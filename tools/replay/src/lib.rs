@@ -7,6 +7,7 @@
 //!   `gyrocomp::daemon::Daemon` the `gyrocompd` binary runs).
 //! - [`stream`]: the lossless send/receive loop (`--max` or paced at the recording's rate × X).
 //! - [`summary`]: what a replay reports (`--json`).
+//! - [`main_job`]: the main job's report, its recordings pooled.
 //!
 //! The samples are the offline driver's ([`gyrocomp::io::Recording::input`]: `seq` = row index,
 //! one t_s → t_ns conversion), sent as [`gyrocomp::daemon::convert::raw_from_input`], and the
@@ -17,6 +18,7 @@
 
 pub mod connect;
 pub mod embedded;
+pub mod main_job;
 pub mod stream;
 pub mod summary;
 

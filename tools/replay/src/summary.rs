@@ -57,8 +57,9 @@ pub struct Summary {
 }
 
 /// Angle errors |∫(compensated − truth)dt| of the first column per motion segment
-/// ([`gyrocomp::eval::MotionRun`]): gyrocomp's answers beside start-up bias-hold and the
-/// white-noise floor 0.674·N·√T of the same recording.
+/// ([`gyrocomp::eval::MotionRun`]): gyrocomp's answers beside start-up bias-hold, last-static
+/// (the ZARU reference: it knows when the platform stops) and the white-noise floor 0.674·N·√T
+/// of the same recording.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MotionFigures {
     /// Motion segments.
@@ -67,16 +68,39 @@ pub struct MotionFigures {
     pub gyrocomp_median_deg: f64,
     /// The same for start-up bias-hold (mean of the first 60 s or up to the first motion).
     pub bias_hold_median_deg: f64,
+    /// The same for last-static: each motion compensated by the mean of the last 60 s of
+    /// samples the injected profile marks static (the daemon never sees those flags).
+    pub last_static_median_deg: f64,
     /// Median white-noise floor of the motions, deg.
     pub floor_median_deg: f64,
     /// Angle error over the whole run, deg: gyrocomp and bias-hold.
     pub gyrocomp_run_deg: f64,
     /// The same for bias-hold.
     pub bias_hold_run_deg: f64,
+    /// The same for last-static.
+    pub last_static_run_deg: f64,
+    /// Every motion's angle errors and floor, for pooling over recordings (not serialised).
+    #[serde(skip)]
+    pub per_motion: PerMotion,
+}
+
+/// The per-motion angle errors behind [`MotionFigures`], in the segments' order, deg.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PerMotion {
+    /// gyrocomp's answers.
+    pub gyrocomp: Vec<f64>,
+    /// Start-up bias-hold.
+    pub bias_hold: Vec<f64>,
+    /// Last-static.
+    pub last_static: Vec<f64>,
+    /// The white-noise floor 0.674·N·√T.
+    pub floor: Vec<f64>,
 }
 
 /// Start-up window of the bias-hold baseline, s.
 const BIAS_HOLD_S: f64 = 60.0;
+/// Window of the last-static reference, s (as `gyrocomp eval --protocol motion`'s).
+const LAST_STATIC_S: f64 = 60.0;
 
 impl Summary {
     /// The summary of `result` for recording `rec`.
@@ -115,18 +139,31 @@ impl Summary {
         let raw = rec.rate(0).unwrap_or(&[]).to_vec();
         let Ok(run) = MotionRun::new(rec.t_s().to_vec(), raw, truth, moving) else { return self };
         let ours: Vec<f64> = result.outputs.iter().map(|o| o.rate_dps[0]).collect();
-        let (Ok(g), Ok(hold)) = (run.score(&ours), run.bias_hold(BIAS_HOLD_S)) else { return self };
-        let Ok(b) = run.score(&hold.compensated) else { return self };
+        let (Ok(g), Ok(hold), Ok(last)) =
+            (run.score(&ours), run.bias_hold(BIAS_HOLD_S), run.last_static(moving, LAST_STATIC_S))
+        else {
+            return self;
+        };
+        let (Ok(b), Ok(l)) = (run.score(&hold.compensated), run.score(&last)) else { return self };
         let floor = run.sensor_arw().map(|n| run.white_noise_floor(n)).unwrap_or_default();
-        if let (Some(gm), Some(bm), Some(fm)) = (g.angle_err_deg_median, b.angle_err_deg_median, quantile(&floor, 0.5))
+        if let (Some(gm), Some(bm), Some(lm), Some(fm)) =
+            (g.angle_err_deg_median, b.angle_err_deg_median, l.angle_err_deg_median, quantile(&floor, 0.5))
         {
             self.motion = Some(MotionFigures {
                 motions: run.segments().len(),
                 gyrocomp_median_deg: gm,
                 bias_hold_median_deg: bm,
+                last_static_median_deg: lm,
                 floor_median_deg: fm,
                 gyrocomp_run_deg: g.angle_err_deg_run,
                 bias_hold_run_deg: b.angle_err_deg_run,
+                last_static_run_deg: l.angle_err_deg_run,
+                per_motion: PerMotion {
+                    gyrocomp: g.angle_err_deg_segments,
+                    bias_hold: b.angle_err_deg_segments,
+                    last_static: l.angle_err_deg_segments,
+                    floor,
+                },
             });
         }
         self

@@ -176,3 +176,35 @@ fn bad_input_is_an_error_naming_file_and_line() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.csv") && err.contains(":3") && err.contains("gx_dps"), "{err}");
 }
+
+/// The main job (no recording): eight seeded recordings, each through its own embedded daemon
+/// and equal to the offline driver, and the claims the README makes of them — pooled over their
+/// turns the tracker carries less drift than start-up bias-hold, per turn and over the runs,
+/// and stays above what no drift model removes (the white-noise floor). Only the first
+/// recording and its answers are left behind.
+#[test]
+fn the_main_job_pools_eight_recordings_and_beats_bias_hold_over_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_replay")).arg("--json").current_dir(dir.path()).output().unwrap();
+    assert!(out.status.success(), "main job: {}", String::from_utf8_lossy(&out.stderr));
+    let job: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let recordings = job["recordings"].as_array().unwrap();
+    assert_eq!(recordings.len(), 8);
+    for (seed, r) in recordings.iter().enumerate() {
+        assert_eq!(r["seed"], seed as u64);
+        assert_eq!((count(r, "sent"), count(r, "received"), count(r, "dropped")), (180_000, 180_000, 0), "{r}");
+        assert_eq!(r["offline_equal"], true, "seed {seed}: the daemon and the offline driver differ");
+        assert!(r["motion"]["motions"].as_u64().unwrap() >= 20, "{r}");
+    }
+    let p = &job["pooled"];
+    let f = |k: &str| p[k].as_f64().unwrap_or_else(|| panic!("`{k}` in {p}"));
+    assert!(f("gyrocomp_median_deg") < 0.8 * f("bias_hold_median_deg"), "{p}");
+    assert!(f("gyrocomp_run_deg") < 0.3 * f("bias_hold_run_deg"), "{p}");
+    assert!(f("gyrocomp_median_deg") > f("floor_median_deg"), "{p}");
+    let mut left: Vec<String> = std::fs::read_dir(dir.path().join("out/replay"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["adis16405_sim_100hz_turns.csv", "compensated.csv"]);
+}
