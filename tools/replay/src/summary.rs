@@ -192,7 +192,7 @@ impl Summary {
         self
     }
 
-    /// A few readable lines.
+    /// A few readable lines (the main job prints its motion figures itself, [`crate::main_job::MainJob::text`]).
     pub fn text(&self) -> String {
         let check = match self.offline_equal {
             Some(true) => {
@@ -221,19 +221,6 @@ impl Summary {
             ),
             _ => String::new(),
         };
-        let motion = self.motion.as_ref().map_or_else(String::new, |m| {
-            format!(
-                "\nangle error per motion (median of {} turns, first column): gyrocomp {:.3} deg = {:.2}× start-up bias-hold's {:.3} deg; \
-                 white-noise floor 0.674·N·√T {:.3} deg\nangle error over the whole run: gyrocomp {:.2} deg, bias-hold {:.2} deg",
-                m.motions,
-                m.gyrocomp_median_deg,
-                m.gyrocomp_median_deg / m.bias_hold_median_deg,
-                m.bias_hold_median_deg,
-                m.floor_median_deg,
-                m.gyrocomp_run_deg,
-                m.bias_hold_run_deg
-            )
-        });
-        text + &truth + &motion + check
+        text + &truth + check
     }
 }
