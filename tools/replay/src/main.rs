@@ -182,6 +182,13 @@ fn main_job(args: &Args, config: &Config) -> Result<MainJob, BoxError> {
                     give a recording to replay it through a running one"
             .into());
     }
+    if args.columns.first().map(String::as_str) != Some("gx_dps") {
+        return Err(format!(
+            "the main job adds its turns to gx_dps and scores that column; --column {} must start with gx_dps",
+            args.columns.join(",")
+        )
+        .into());
+    }
     let rate_hz = match config.input.rate_hz {
         RateSetting::Hz(hz) => hz,
         RateSetting::Auto => DEFAULT_RATE_HZ,

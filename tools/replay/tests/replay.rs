@@ -167,6 +167,18 @@ fn speed_paces_by_the_recording_time() {
 }
 
 #[test]
+fn the_main_job_refuses_a_column_it_does_not_score_and_a_running_daemon() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [&["--column", "gy_dps"][..], &["--daemon", "running"][..]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_replay")).args(args).current_dir(dir.path()).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("the main job"), "{args:?}: {err}");
+    }
+    assert!(!dir.path().join("out").exists(), "nothing is simulated before the arguments are checked");
+}
+
+#[test]
 fn bad_input_is_an_error_naming_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.csv");
