@@ -8,8 +8,6 @@
 
 use serde::Serialize;
 
-use gyrocomp::model::metrics::quantile;
-
 use crate::summary::{MotionFigures, PerMotion, Summary};
 
 /// One recording of the main job: its seed (simulation and motion profile) and its summary.
@@ -48,31 +46,15 @@ impl PooledFigures {
         for run in runs {
             let s = &run.summary;
             let m = s.motion.as_ref()?;
-            for (all, one) in [
-                (&mut per_motion.gyrocomp, &m.per_motion.gyrocomp),
-                (&mut per_motion.bias_hold, &m.per_motion.bias_hold),
-                (&mut per_motion.last_static, &m.per_motion.last_static),
-                (&mut per_motion.floor, &m.per_motion.floor),
-            ] {
-                all.extend_from_slice(one);
-            }
+            per_motion.extend(&m.per_motion);
             motions.push(m);
             drift.push((s.drift_rmse_dps?, s.drift_rmse_bias_hold_dps?));
         }
         let ratios: Vec<f64> = motions.iter().map(|m| m.gyrocomp_median_deg / m.bias_hold_median_deg).collect();
         let rms = |v: Vec<f64>| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
         let sum = |pick: fn(&MotionFigures) -> f64| motions.iter().map(|m| pick(m)).sum();
-        let figures = MotionFigures {
-            motions: per_motion.gyrocomp.len(),
-            gyrocomp_median_deg: quantile(&per_motion.gyrocomp, 0.5)?,
-            bias_hold_median_deg: quantile(&per_motion.bias_hold, 0.5)?,
-            last_static_median_deg: quantile(&per_motion.last_static, 0.5)?,
-            floor_median_deg: quantile(&per_motion.floor, 0.5)?,
-            gyrocomp_run_deg: sum(|m| m.gyrocomp_run_deg),
-            bias_hold_run_deg: sum(|m| m.bias_hold_run_deg),
-            last_static_run_deg: sum(|m| m.last_static_run_deg),
-            per_motion,
-        };
+        let run_deg = [sum(|m| m.gyrocomp_run_deg), sum(|m| m.bias_hold_run_deg), sum(|m| m.last_static_run_deg)];
+        let figures = MotionFigures::of(per_motion, run_deg)?;
         Some(Self {
             recordings: runs.len(),
             figures,
@@ -170,23 +152,9 @@ mod tests {
     use super::*;
 
     fn run(seed: u64, ours: Vec<f64>, hold: Vec<f64>, drift: (f64, f64)) -> SeededSummary {
-        let median = |v: &Vec<f64>| quantile(v, 0.5).unwrap();
-        let motion = MotionFigures {
-            motions: ours.len(),
-            gyrocomp_median_deg: median(&ours),
-            bias_hold_median_deg: median(&hold),
-            last_static_median_deg: 1.0,
-            floor_median_deg: 0.5,
-            gyrocomp_run_deg: 2.0,
-            bias_hold_run_deg: 3.0,
-            last_static_run_deg: 1.0,
-            per_motion: PerMotion {
-                floor: vec![0.5; ours.len()],
-                last_static: vec![1.0; ours.len()],
-                gyrocomp: ours,
-                bias_hold: hold,
-            },
-        };
+        let n = ours.len();
+        let per_motion = PerMotion { floor: vec![0.5; n], last_static: vec![1.0; n], gyrocomp: ours, bias_hold: hold };
+        let motion = MotionFigures::of(per_motion, [2.0, 3.0, 1.0]).unwrap();
         let summary = Summary {
             sent: 10,
             received: 10,

@@ -97,6 +97,36 @@ pub struct PerMotion {
     pub floor: Vec<f64>,
 }
 
+impl MotionFigures {
+    /// The figures of `per_motion` (medians of each model's angle errors and of the floor) with
+    /// the whole-run errors `run_deg` of gyrocomp, bias-hold and last-static; `None` without
+    /// motions or floor.
+    pub fn of(per_motion: PerMotion, run_deg: [f64; 3]) -> Option<Self> {
+        let median = |v: &[f64]| quantile(v, 0.5);
+        Some(Self {
+            motions: per_motion.gyrocomp.len(),
+            gyrocomp_median_deg: median(&per_motion.gyrocomp)?,
+            bias_hold_median_deg: median(&per_motion.bias_hold)?,
+            last_static_median_deg: median(&per_motion.last_static)?,
+            floor_median_deg: median(&per_motion.floor)?,
+            gyrocomp_run_deg: run_deg[0],
+            bias_hold_run_deg: run_deg[1],
+            last_static_run_deg: run_deg[2],
+            per_motion,
+        })
+    }
+}
+
+impl PerMotion {
+    /// Appends `other`'s motions (pooling recordings).
+    pub fn extend(&mut self, other: &PerMotion) {
+        self.gyrocomp.extend_from_slice(&other.gyrocomp);
+        self.bias_hold.extend_from_slice(&other.bias_hold);
+        self.last_static.extend_from_slice(&other.last_static);
+        self.floor.extend_from_slice(&other.floor);
+    }
+}
+
 /// Start-up window of the bias-hold baseline, s.
 const BIAS_HOLD_S: f64 = 60.0;
 /// Window of the last-static reference, s (as `gyrocomp eval --protocol motion`'s).
@@ -146,26 +176,13 @@ impl Summary {
         };
         let (Ok(b), Ok(l)) = (run.score(&hold.compensated), run.score(&last)) else { return self };
         let floor = run.sensor_arw().map(|n| run.white_noise_floor(n)).unwrap_or_default();
-        if let (Some(gm), Some(bm), Some(lm), Some(fm)) =
-            (g.angle_err_deg_median, b.angle_err_deg_median, l.angle_err_deg_median, quantile(&floor, 0.5))
-        {
-            self.motion = Some(MotionFigures {
-                motions: run.segments().len(),
-                gyrocomp_median_deg: gm,
-                bias_hold_median_deg: bm,
-                last_static_median_deg: lm,
-                floor_median_deg: fm,
-                gyrocomp_run_deg: g.angle_err_deg_run,
-                bias_hold_run_deg: b.angle_err_deg_run,
-                last_static_run_deg: l.angle_err_deg_run,
-                per_motion: PerMotion {
-                    gyrocomp: g.angle_err_deg_segments,
-                    bias_hold: b.angle_err_deg_segments,
-                    last_static: l.angle_err_deg_segments,
-                    floor,
-                },
-            });
-        }
+        let per_motion = PerMotion {
+            gyrocomp: g.angle_err_deg_segments,
+            bias_hold: b.angle_err_deg_segments,
+            last_static: l.angle_err_deg_segments,
+            floor,
+        };
+        self.motion = MotionFigures::of(per_motion, [g.angle_err_deg_run, b.angle_err_deg_run, l.angle_err_deg_run]);
         self
     }
 
