@@ -43,7 +43,8 @@ log-uniform in the class's range; its bin is the third of the log-range it falls
     outside       an effect outside the catalogue: a chirp 0.01 -> 0.2 Hz, a noise burst (white
                   noise x2-4 over 10-30 % of the run) or a triangle wave of the bias  [outside]
 
-Seeds: the TUNING range is 1000-1999, the REPORT range is 1-999. Tune only on tuning seeds;
+Seeds: the TUNING ranges are 1000-1999 and 2000-2999 (the second opened in the twenty-first
+session, when the first was used up), the REPORT ranges 1-999 and 3000-3999. Tune only on tuning seeds;
 report figures only on report seeds, measured after tuning stopped. A case's seed is
 `first_seed + index`, where cases are numbered class by class; the per-case generator is
 numpy's PCG64 seeded with (seed, 16).
@@ -63,8 +64,8 @@ import numpy as np
 
 from oracle import oracle_z
 
-TUNING_SEEDS = range(1000, 2000)
-REPORT_SEEDS = range(1, 1000)
+TUNING_RANGES = (range(1000, 2000), range(2000, 3000))
+REPORT_RANGES = (range(1, 1000), range(3000, 4000))
 
 FLOORS = {
     "quiet": 0.1,
@@ -327,10 +328,13 @@ def main():
         if f not in FLOORS:
             ap.error(f"unknown floor {f!r}; known: {', '.join(FLOORS)}")
     last = a.first_seed + len(classes) * a.per_class - 1
-    tuning = a.first_seed in TUNING_SEEDS and last in TUNING_SEEDS
-    report = a.first_seed in REPORT_SEEDS and last in REPORT_SEEDS
+    tuning = any(a.first_seed in r and last in r for r in TUNING_RANGES)
+    report = any(a.first_seed in r and last in r for r in REPORT_RANGES)
     if not (tuning or report):
-        ap.error(f"seeds {a.first_seed}-{last} straddle the tuning (1000-1999) and report (1-999) ranges")
+        ap.error(
+            f"seeds {a.first_seed}-{last} are not inside one range: tuning 1000-1999 or 2000-2999, "
+            "report 1-999 or 3000-3999"
+        )
     os.makedirs(a.out_dir, exist_ok=True)
     cases = []
     index = 0

@@ -31,6 +31,7 @@ use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, ramp_before_u
 use super::model::SimModel;
 use super::naming::naming_order;
 use super::nested::gauss_markov_test;
+use super::nested_temperature::temperature_test;
 use super::params::{EffectKind, EffectParams, Fitted, FittedEffect};
 use super::stats::StatLayout;
 use super::uncertainty::bootstrap;
@@ -148,6 +149,22 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                         );
                         Some(test)
                     }
+                    (Some(terms), EffectKind::Temperature) => match recording.temp_c {
+                        Some(temp) => {
+                            // A test of presence on the whole recording, like the process's.
+                            let test =
+                                temperature_test(recording.rate, temp, rate_hz, terms, builder.total_s, settings.seed)?;
+                            tracing::info!(
+                                "temperature nested test: S {:.4}, null mean {:.4}, threshold {:.4}, passed {}",
+                                test.statistic,
+                                test.null_mean,
+                                test.threshold,
+                                test.passed
+                            );
+                            Some(test)
+                        }
+                        None => None,
+                    },
                     _ => None,
                 };
                 if let Some(n) = &own_null {

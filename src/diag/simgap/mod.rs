@@ -16,8 +16,9 @@
 //! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
 //!   [`uncertainty`]: the noise terms' uncertainty carried into it.
 //! - [`greedy`]: acceptance, ranking and the greedy combination of effects; [`nested`]: the
-//!   nested-model test of a Gauss–Markov process the baseline may have absorbed, on the Whittle
-//!   likelihood of [`whittle`].
+//!   nested-model test of a Gauss–Markov process the baseline may have absorbed, and
+//!   [`nested_temperature`] that of a temperature response, on the Whittle likelihood of
+//!   [`whittle`].
 //! - [`diagnose`](mod@diagnose): the whole diagnosis of one recording; [`inputs`] (settings,
 //!   baseline, recording), [`outcome`] (verdict, effect results, diagnosis), [`builder`] (the
 //!   models it simulates).
@@ -40,6 +41,7 @@ pub mod inputs;
 pub mod model;
 pub mod naming;
 pub mod nested;
+pub mod nested_temperature;
 pub mod outcome;
 pub mod params;
 pub mod refit;

@@ -39,7 +39,7 @@ use super::SimgapError;
 use super::baseline::NoiseTerms;
 use super::gap::NULL_LEVEL;
 use super::model::{member_seed, simulate};
-use super::whittle::{COLUMNS, Periodogram, columns, fit, set_gauss_markov_column};
+use super::whittle::{COLUMNS, Periodogram, coefficients_of, columns, fit, set_gauss_markov_column, terms_of};
 use crate::model::rng::splitmix64;
 
 /// Null series simulated.
@@ -98,7 +98,7 @@ pub fn gauss_markov_gain(
 ) -> Result<(f64, NoiseTerms), SimgapError> {
     let p = Periodogram::of(x)?;
     let from = start.floor_from_s;
-    let initial = [(start.q / dt).powi(2), start.n * start.n / dt, start.b * start.b, start.k * start.k * dt, 0.0];
+    let initial = coefficients_of(start, dt);
     let mut cols = columns(&p, dt, from, floor_to_s);
     let plain = fit(&p, &cols, [true, true, true, true, false], initial);
     let (lo, hi) = (GRID_MIN_SAMPLES * dt, (x.len() as f64 * dt / GRID_MAX_FRACTION).max(4.0 * dt));
@@ -110,16 +110,7 @@ pub fn gauss_markov_gain(
         best = best.min(with.neg_log_likelihood);
     }
     let gain = 2.0 * (plain.neg_log_likelihood - best);
-    let c = plain.coefficients;
-    let null_terms = NoiseTerms {
-        q: c[0].sqrt() * dt,
-        n: (c[1] * dt).sqrt(),
-        b: c[2].sqrt(),
-        k: (c[3] / dt).sqrt(),
-        r: 0.0,
-        gauss_markov: None,
-        ..*start
-    };
+    let null_terms = terms_of(&plain.coefficients, dt, start);
     Ok((if gain > ZERO_GAIN { gain } else { 0.0 }, null_terms))
 }
 
@@ -138,15 +129,28 @@ pub fn gauss_markov_test(
     let dt = 1.0 / rate_hz;
     let (statistic, null_terms) = gauss_markov_gain(x, dt, baseline, total_s)?;
     tracing::debug!("nested null terms: {null_terms:?}");
-    let model = null_terms.to_model(rate_hz, total_s, 0.0);
-    let null = (0..NULL_MEMBERS)
-        .map(|j| {
-            let member = simulate(&model, rate_hz, x.len(), None, member_seed(splitmix64(seed ^ NESTED_SEED), j))?;
-            Ok(gauss_markov_gain(&member, dt, &null_terms, total_s)?.0)
-        })
-        .collect::<Result<Vec<f64>, SimgapError>>()?;
+    let null = null_statistics(&null_terms, rate_hz, x.len(), total_s, seed ^ NESTED_SEED, |member| {
+        Ok(gauss_markov_gain(member, dt, &null_terms, total_s)?.0)
+    })?;
     tracing::debug!("nested null: {:?}", null.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>());
     Ok(judge_gain(statistic, &null))
+}
+
+/// The statistic of each of [`NULL_MEMBERS`] series of `len` samples simulated from `null_terms`
+/// at `rate_hz` (flicker floor to `total_s`; member seeds from `seed`): a parametric bootstrap's
+/// null.
+pub fn null_statistics(
+    null_terms: &NoiseTerms,
+    rate_hz: f64,
+    len: usize,
+    total_s: f64,
+    seed: u64,
+    statistic: impl Fn(&[f64]) -> Result<f64, SimgapError>,
+) -> Result<Vec<f64>, SimgapError> {
+    let model = null_terms.to_model(rate_hz, total_s, 0.0);
+    (0..NULL_MEMBERS)
+        .map(|j| statistic(&simulate(&model, rate_hz, len, None, member_seed(splitmix64(seed), j))?))
+        .collect()
 }
 
 /// The decision of the test from the recording's Λ and its null members' (module docs).

@@ -66,8 +66,8 @@ pub struct EffectResult {
     pub own_null_judgement: Option<Judgement>,
     /// The test on the effect's own detector against its own null ([`super::greedy`]).
     pub detector: Option<DetectorTest>,
-    /// The nested-model test of a stochastic effect against the baseline ([`super::nested`];
-    /// the Gauss–Markov process only).
+    /// The nested-model test of the effect against the baseline: a Gauss–Markov process
+    /// ([`super::nested`]) or a temperature response ([`super::nested_temperature`]).
     pub nested: Option<NestedTest>,
 }
 

@@ -1,5 +1,6 @@
 //! The Whittle likelihood of a rate series under the simulator's noise terms, fitted in the
-//! frequency domain: the likelihood-ratio statistic of the nested-model test ([`super::nested`]).
+//! frequency domain: the likelihood-ratio statistic of the nested-model tests ([`super::nested`],
+//! and with a regressor's cross-periodogram [`super::nested_temperature`]).
 //!
 //! **Periodogram** (Percival & Walden 1993, *Spectral Analysis for Physical Applications*, §6):
 //! the series is detrended (least-squares line) and tapered (a Tukey window over
@@ -25,7 +26,7 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{DMatrix, DVector};
 
 use super::SimgapError;
-use super::fit_spectral::dft_power;
+use super::baseline::NoiseTerms;
 use super::robust::linear_fit;
 use crate::diag::fft::Fft;
 use crate::sim::terms::{flicker_poles, gauss_markov_averaged};
@@ -55,44 +56,139 @@ pub struct Periodogram {
 impl Periodogram {
     /// The binned periodogram of `x` (module docs).
     pub fn of(x: &[f64]) -> Result<Periodogram, SimgapError> {
-        let n = x.len();
+        let binned = Binned::of(&[x])?;
+        let mean = binned.products.into_iter().next().unwrap_or_default();
+        Ok(Periodogram { omega: binned.omega, mean, weight: binned.weight })
+    }
+}
+
+/// The binned periodograms of a series and of a regressor, and their cross-periodogram, on the
+/// bins of [`Periodogram::of`] (both detrended and tapered alike): what the Whittle likelihood of
+/// the series less a multiple of the regressor needs, for any multiple
+/// (Percival & Walden 1993, §6 and §7: the cross-periodogram's real part).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CrossPeriodogram {
+    /// Bin centres, radians per sample.
+    pub omega: Vec<f64>,
+    /// Fourier frequencies each bin spans.
+    pub weight: Vec<f64>,
+    /// Mean |X|² of the series over each bin.
+    pub xx: Vec<f64>,
+    /// Mean Re(X·conj Z) of the series X and the regressor Z over each bin.
+    pub xz: Vec<f64>,
+    /// Mean |Z|² of the regressor over each bin.
+    pub zz: Vec<f64>,
+}
+
+impl CrossPeriodogram {
+    /// The binned spectra of `x` and the regressor `z` (the same length).
+    pub fn of(x: &[f64], z: &[f64]) -> Result<CrossPeriodogram, SimgapError> {
+        if z.len() != x.len() {
+            return Err(SimgapError::TooShort { samples: z.len(), need: x.len() });
+        }
+        let binned = Binned::of(&[x, z])?;
+        let mut products = binned.products.into_iter();
+        let (xx, xz, zz) = (products.next(), products.next(), products.next());
+        let (Some(xx), Some(xz), Some(zz)) = (xx, xz, zz) else {
+            return Err(SimgapError::Numerical("cross-periodogram without its three products".into()));
+        };
+        Ok(CrossPeriodogram { omega: binned.omega, weight: binned.weight, xx, xz, zz })
+    }
+
+    /// The binned periodogram of x − c·z: mean |X − cZ|² = xx − 2c·xz + c²·zz per bin.
+    pub fn residual(&self, c: f64) -> Periodogram {
+        let mean = self.xx.iter().zip(&self.xz).zip(&self.zz).map(|((a, b), z)| a - 2.0 * c * b + c * c * z).collect();
+        Periodogram { omega: self.omega.clone(), mean, weight: self.weight.clone() }
+    }
+
+    /// The c that minimises the binned Whittle likelihood of x − c·z under the spectral density
+    /// `s` (one value per bin): the generalised least-squares estimate Σ L·xz/S / Σ L·zz/S (the
+    /// likelihood is quadratic in c).
+    pub fn gls_coefficient(&self, s: &[f64]) -> f64 {
+        let (mut num, mut den) = (0.0, 0.0);
+        for (((l, b), z), s) in self.weight.iter().zip(&self.xz).zip(&self.zz).zip(s) {
+            num += l * b / s;
+            den += l * z / s;
+        }
+        if den > 0.0 { num / den } else { 0.0 }
+    }
+}
+
+/// Binned spectral products of one or two series (module docs): for one series its periodogram;
+/// for two (x, z) the bin means of |X|², Re(X·conj Z) and |Z|².
+struct Binned {
+    omega: Vec<f64>,
+    weight: Vec<f64>,
+    products: Vec<Vec<f64>>,
+}
+
+impl Binned {
+    fn of(series: &[&[f64]]) -> Result<Binned, SimgapError> {
+        let n = series[0].len();
         let need = 4 * SINGLE_ORDINATES;
         if n < need {
             return Err(SimgapError::TooShort { samples: n, need });
         }
-        let residual = detrended(x);
+        let residuals: Vec<Vec<f64>> = series.iter().map(|x| detrended(x)).collect();
         let window = taper(n);
         let norm: f64 = window.iter().map(|w| w * w).sum();
+        let pairs: Vec<(usize, usize)> = if series.len() == 1 { vec![(0, 0)] } else { vec![(0, 0), (0, 1), (1, 1)] };
+        let product = |a: (f64, f64), b: (f64, f64)| a.0 * b.0 + a.1 * b.1;
         let spacing = TAU / n as f64;
-        let (mut omega, mut mean, mut weight) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut omega, mut weight) = (Vec::new(), Vec::new());
+        let mut products = vec![Vec::new(); pairs.len()];
         for k in 1..=SINGLE_ORDINATES {
             // The DFT at k/n cycles per sample (a rate of one sample per unit time).
             omega.push(spacing * k as f64);
-            mean.push(dft_power(&residual, &window, k as f64 / n as f64, 1.0) / norm);
+            let dft: Vec<(f64, f64)> = residuals.iter().map(|r| dft_at(r, &window, k as f64 / n as f64)).collect();
+            for (out, &(a, b)) in products.iter_mut().zip(&pairs) {
+                out.push(product(dft[a], dft[b]) / norm);
+            }
             weight.push(1.0);
         }
         let padded = (2 * n).next_power_of_two();
         let fft = Fft::new(padded).ok_or_else(|| SimgapError::Numerical(format!("no FFT of length {padded}")))?;
-        let mut re: Vec<f64> = residual.iter().zip(&window).map(|(v, w)| v * w).collect();
-        re.resize(padded, 0.0);
-        let mut im = vec![0.0; padded];
-        fft.forward(&mut re, &mut im);
-        let power = |p: usize| (re[p] * re[p] + im[p] * im[p]) / norm;
+        let transforms: Vec<(Vec<f64>, Vec<f64>)> = residuals
+            .iter()
+            .map(|r| {
+                let mut re: Vec<f64> = r.iter().zip(&window).map(|(v, w)| v * w).collect();
+                re.resize(padded, 0.0);
+                let mut im = vec![0.0; padded];
+                fft.forward(&mut re, &mut im);
+                (re, im)
+            })
+            .collect();
+        let at = |s: usize, p: usize| (transforms[s].0[p], transforms[s].1[p]);
         let step = TAU / padded as f64;
         let mut lo = spacing * (SINGLE_ORDINATES as f64 + 0.5);
         while lo < PI {
             let hi = (lo * BIN_RATIO).max(lo + 2.0 * spacing).min(PI);
             let (first, last) = ((lo / step).ceil() as usize, ((hi / step).ceil() as usize).min(padded / 2));
             if last > first {
-                let sum: f64 = (first..last).map(power).sum();
                 omega.push(0.5 * (lo + hi));
-                mean.push(sum / (last - first) as f64);
+                for (out, &(a, b)) in products.iter_mut().zip(&pairs) {
+                    let sum: f64 = (first..last).map(|p| product(at(a, p), at(b, p)) / norm).sum();
+                    out.push(sum / (last - first) as f64);
+                }
                 weight.push((hi - lo) / spacing);
             }
             lo = hi;
         }
-        Ok(Periodogram { omega, mean, weight })
+        Ok(Binned { omega, weight, products })
     }
+}
+
+/// The DFT (cosine and sine sums) of the windowed `r` at `freq` cycles per sample (the sums of
+/// `fit_spectral::dft_power`, whose power is their squared modulus).
+fn dft_at(r: &[f64], window: &[f64], freq: f64) -> (f64, f64) {
+    let step = TAU * freq;
+    let (mut c, mut s) = (0.0, 0.0);
+    for (k, (v, w)) in r.iter().zip(window).enumerate() {
+        let a = step * k as f64;
+        c += v * w * a.cos();
+        s += v * w * a.sin();
+    }
+    (c, s)
 }
 
 /// The Tukey window over `n` samples ([`TAPER_SHARE`] tapered).
@@ -151,6 +247,27 @@ pub fn columns(periodogram: &Periodogram, dt: f64, floor_from_s: f64, floor_to_s
             [s2, 1.0, flicker, 1.0 / s2, 0.0]
         })
         .collect()
+}
+
+/// The coefficients of the columns (module docs) for the noise terms `terms` sampled every `dt`
+/// s, with no Gauss–Markov process: where a fit starts.
+pub fn coefficients_of(terms: &NoiseTerms, dt: f64) -> [f64; COLUMNS] {
+    [(terms.q / dt).powi(2), terms.n * terms.n / dt, terms.b * terms.b, terms.k * terms.k * dt, 0.0]
+}
+
+/// The noise terms of the quantisation, white, flicker and random-walk coefficients `c` (the
+/// inverse of [`coefficients_of`]); the flicker floor's start from `like`, no rate ramp and no
+/// Gauss–Markov process.
+pub fn terms_of(c: &[f64; COLUMNS], dt: f64, like: &NoiseTerms) -> NoiseTerms {
+    NoiseTerms {
+        q: c[0].sqrt() * dt,
+        n: (c[1] * dt).sqrt(),
+        b: c[2].sqrt(),
+        k: (c[3] / dt).sqrt(),
+        r: 0.0,
+        gauss_markov: None,
+        ..*like
+    }
 }
 
 /// Sets the Gauss–Markov column of `cols` (from [`columns`]) to a unit-variance process of
@@ -299,6 +416,34 @@ mod tests {
         }
         let (corr, w) = (0.001, 1.0);
         assert!((gauss_markov_spectrum(corr, dt, w) / (2.0 * corr / dt) - 1.0).abs() < 0.02);
+    }
+
+    /// The cross-periodogram is the periodogram of x − c·z for every c (|X − cZ|² expanded; the
+    /// detrending and the taper are linear), and its least-squares coefficient of x = 3z + a
+    /// line is 3 under any spectral density.
+    #[test]
+    fn the_cross_periodogram_expands_the_residuals_periodogram() {
+        let n = 3000;
+        let z: Vec<f64> = (0..n).map(|i| (i as f64 * 0.013).sin() + 0.3 * (i as f64 * 0.21).cos()).collect();
+        let noise: Vec<f64> = (0..n).map(|i| ((i * 7919 % 1000) as f64 / 1000.0 - 0.5) * 0.4).collect();
+        let x: Vec<f64> = z.iter().zip(&noise).map(|(z, e)| 2.0 * z + e).collect();
+        let cross = CrossPeriodogram::of(&x, &z).unwrap();
+        for c in [0.0, 1.5, 2.0, -3.0] {
+            let direct = Periodogram::of(&x.iter().zip(&z).map(|(x, z)| x - c * z).collect::<Vec<_>>()).unwrap();
+            let expanded = cross.residual(c);
+            assert_eq!(direct.omega, expanded.omega);
+            assert_eq!(direct.weight, expanded.weight);
+            let scale = direct.mean.iter().cloned().fold(0.0, f64::max);
+            for (a, b) in direct.mean.iter().zip(&expanded.mean) {
+                assert!((a - b).abs() <= 1e-9 * scale, "c {c}: {a} vs {b}");
+            }
+        }
+        assert_eq!(Periodogram::of(&x).unwrap().mean, cross.xx);
+        let exact: Vec<f64> = z.iter().enumerate().map(|(i, z)| 3.0 * z + 0.01 * i as f64 - 1.0).collect();
+        let cross = CrossPeriodogram::of(&exact, &z).unwrap();
+        for s in [vec![1.0; cross.omega.len()], cross.omega.iter().map(|w| 1.0 / (w * w)).collect()] {
+            assert!((cross.gls_coefficient(&s) - 3.0).abs() < 1e-9);
+        }
     }
 
     /// On a simulated series of white noise plus rate random walk the fit recovers both terms
