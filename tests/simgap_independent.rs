@@ -138,6 +138,32 @@ fn an_absorbed_gauss_markov_process_is_found_by_the_nested_test() {
     assert_eq!(case["floor"], "nominal");
 }
 
+/// A temperature response that the fitted IEEE terms absorb (report seed 639, the generator's
+/// "temperature": −0.0016 deg/s/°C on its quiet floor, in the high magnitude bin; 4,664 s at
+/// 10 Hz): the baseline shows no significant gap on either part, the own-null route's matched
+/// filter (the least-squares slope of 1 s means on the temperature) stays inside its band, and
+/// the nested-model test (src/diag/simgap/nested_temperature.rs, the Whittle likelihood with and
+/// without c·T(t), c weighted by the inverse noise spectrum) finds it at about twice its
+/// threshold (Λ 17.9 against 8.8), so temperature is named. Until the twenty-first session the
+/// diagnosis answered "no significant gap" here.
+#[test]
+fn an_absorbed_temperature_response_is_found_by_the_nested_test() {
+    if !numpy_or_skip("an_absorbed_temperature_response_is_found_by_the_nested_test") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (case, doc) = one_case(dir.path(), "639", "temperature");
+    assert_eq!(case["floor"], "quiet");
+    let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
+    assert!(!significant("train") && !significant("holdout"), "the baseline alone shows a gap: {}", doc["before"]);
+    let temperature = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "temperature").unwrap();
+    assert_eq!(temperature["detector"]["passed"], false, "{}", temperature["detector"]);
+    let nested = &temperature["nested"];
+    assert_eq!(nested["passed"], true, "{nested}");
+    assert!(nested["statistic"].as_f64().unwrap() > 1.5 * nested["threshold"].as_f64().unwrap(), "{nested}");
+    assert_eq!(named_first(&doc), Some("temperature"), "{}", doc["verdict"]);
+}
+
 /// The Gauss–Markov case of report `seed`, diagnosed into `dir`: the baseline alone shows no
 /// significant gap on either part, and `gauss_markov` is named first. Its manifest entry and JSON
 /// document.
