@@ -140,7 +140,7 @@ impl Binned {
         for k in 1..=SINGLE_ORDINATES {
             // The DFT at k/n cycles per sample (a rate of one sample per unit time).
             omega.push(spacing * k as f64);
-            let dft: Vec<(f64, f64)> = residuals.iter().map(|r| dft_at(r, &window, k as f64 / n as f64)).collect();
+            let dft = dft_at(&residuals, &window, k as f64 / n as f64);
             for (out, &(a, b)) in products.iter_mut().zip(&pairs) {
                 out.push(product(dft[a], dft[b]) / norm);
             }
@@ -178,17 +178,21 @@ impl Binned {
     }
 }
 
-/// The DFT (cosine and sine sums) of the windowed `r` at `freq` cycles per sample (the sums of
-/// `fit_spectral::dft_power`, whose power is their squared modulus).
-fn dft_at(r: &[f64], window: &[f64], freq: f64) -> (f64, f64) {
+/// The DFTs (cosine and sine sums) of each windowed series of `series` at `freq` cycles per
+/// sample (the sums of `fit_spectral::dft_power`, whose power is their squared modulus); one
+/// cosine and one sine per sample serve every series.
+fn dft_at(series: &[Vec<f64>], window: &[f64], freq: f64) -> Vec<(f64, f64)> {
     let step = TAU * freq;
-    let (mut c, mut s) = (0.0, 0.0);
-    for (k, (v, w)) in r.iter().zip(window).enumerate() {
+    let mut sums = vec![(0.0, 0.0); series.len()];
+    for (k, w) in window.iter().enumerate() {
         let a = step * k as f64;
-        c += v * w * a.cos();
-        s += v * w * a.sin();
+        let (cos, sin) = (a.cos(), a.sin());
+        for (sum, r) in sums.iter_mut().zip(series) {
+            sum.0 += r[k] * w * cos;
+            sum.1 += r[k] * w * sin;
+        }
     }
-    (c, s)
+    sums
 }
 
 /// The Tukey window over `n` samples ([`TAPER_SHARE`] tapered).
