@@ -63,6 +63,16 @@ fn one_case(dir: &Path, seed: &str, class: &str) -> (Value, Value) {
     (cases[0].clone(), doc)
 }
 
+/// Whether the baseline alone shows a significant gap on either part of a diagnosis document.
+fn baseline_shows_a_gap(doc: &Value) -> bool {
+    ["train", "holdout"].iter().any(|part| doc["before"][part]["significant"].as_bool().unwrap())
+}
+
+/// The result of effect `name` in a diagnosis document.
+fn effect<'a>(doc: &'a Value, name: &str) -> &'a Value {
+    doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == name).unwrap()
+}
+
 /// The effect a diagnosis document names first, if any.
 fn named_first(doc: &Value) -> Option<&str> {
     doc["chosen"].get(0).and_then(Value::as_str)
@@ -129,8 +139,7 @@ fn an_absorbed_gauss_markov_process_is_found_by_the_nested_test() {
     }
     let dir = tempfile::tempdir().unwrap();
     let (_, doc) = absorbed_then_named(dir.path(), "842");
-    let gm = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "gauss_markov").unwrap();
-    let nested = &gm["nested"];
+    let nested = &effect(&doc, "gauss_markov")["nested"];
     assert_eq!(nested["passed"], true, "{nested}");
     assert!(nested["statistic"].as_f64().unwrap() > 2.0 * nested["threshold"].as_f64().unwrap(), "{nested}");
     let dir = tempfile::tempdir().unwrap();
@@ -154,9 +163,8 @@ fn an_absorbed_temperature_response_is_found_by_the_nested_test() {
     let dir = tempfile::tempdir().unwrap();
     let (case, doc) = one_case(dir.path(), "639", "temperature");
     assert_eq!(case["floor"], "quiet");
-    let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
-    assert!(!significant("train") && !significant("holdout"), "the baseline alone shows a gap: {}", doc["before"]);
-    let temperature = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "temperature").unwrap();
+    assert!(!baseline_shows_a_gap(&doc), "the baseline alone shows a gap: {}", doc["before"]);
+    let temperature = effect(&doc, "temperature");
     assert_eq!(temperature["detector"]["passed"], false, "{}", temperature["detector"]);
     let nested = &temperature["nested"];
     assert_eq!(nested["passed"], true, "{nested}");
@@ -169,12 +177,7 @@ fn an_absorbed_temperature_response_is_found_by_the_nested_test() {
 /// document.
 fn absorbed_then_named(dir: &Path, seed: &str) -> (Value, Value) {
     let (case, doc) = one_case(dir, seed, "gauss_markov");
-    let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
-    assert!(
-        !significant("train") && !significant("holdout"),
-        "seed {seed}: the baseline alone shows a gap: {}",
-        doc["before"]
-    );
+    assert!(!baseline_shows_a_gap(&doc), "seed {seed}: the baseline alone shows a gap: {}", doc["before"]);
     assert_eq!(
         named_first(&doc),
         Some("gauss_markov"),
@@ -198,13 +201,12 @@ fn a_ramp_is_not_named_a_warm_up_whose_time_constant_the_data_do_not_bound() {
     }
     let dir = tempfile::tempdir().unwrap();
     let (_, doc) = one_case(dir.path(), "649", "ramp");
-    let effect = |name: &str| doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == name).unwrap().clone();
-    let (warmup, ramp) = (effect("warmup"), effect("ramp"));
+    let (warmup, ramp) = (effect(&doc, "warmup"), effect(&doc, "ramp"));
     let train_s = doc["train_samples"].as_f64().unwrap() / doc["rate_hz"].as_f64().unwrap();
     let tc = warmup["params"]["time_constant_s"].as_f64().unwrap();
     assert!((tc - train_s).abs() < 1e-6 * train_s, "the warm-up fit is bounded here: {tc} s of {train_s} s");
     let mean_score = |e: &Value| 0.5 * (e["log_score"].as_f64().unwrap() + e["log_score_holdout"].as_f64().unwrap());
-    assert!(mean_score(&warmup) < mean_score(&ramp), "the warm-up no longer scores better: {warmup} {ramp}");
+    assert!(mean_score(warmup) < mean_score(ramp), "the warm-up no longer scores better: {warmup} {ramp}");
     assert_eq!(named_first(&doc), Some("ramp"), "{}: {}", doc["verdict"], doc["chosen"]);
 }
 
@@ -223,9 +225,8 @@ fn a_slow_ramp_the_fitted_terms_absorb_is_found_by_its_matched_filter() {
     let cases =
         generate_in_range(dir.path(), &["--first-seed", "1844", "--per-class", "1", "--classes", "ramp"], "tuning");
     let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
-    let significant = |part: &str| doc["before"][part]["significant"].as_bool().unwrap();
-    assert!(!significant("train") && !significant("holdout"), "the baseline alone shows a gap: {}", doc["before"]);
-    let ramp = doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == "ramp").unwrap();
+    assert!(!baseline_shows_a_gap(&doc), "the baseline alone shows a gap: {}", doc["before"]);
+    let ramp = effect(&doc, "ramp");
     let detector = &ramp["detector"];
     assert_eq!(detector["statistic"], "ramp_change");
     let (z_null, z_hold) = (detector["z_null"].as_f64().unwrap(), detector["z_null_holdout"].as_f64().unwrap());

@@ -33,7 +33,7 @@
 use super::SimgapError;
 use super::baseline::NoiseTerms;
 use super::nested::{NESTED_LEVEL, NestedTest, null_statistics};
-use super::whittle::{COLUMNS, CrossPeriodogram, WhittleFit, coefficients_of, columns, fit, terms_of};
+use super::whittle::{COLUMNS, CrossPeriodogram, coefficients_of, columns, fit, spectral_density, terms_of};
 use crate::model::normal::normal_quantile;
 
 /// Mixed into the seed so the null's series differ from the other tests'.
@@ -70,12 +70,9 @@ pub fn temperature_gain(
     let without = spectra.residual(0.0);
     let cols = columns(&without, dt, start.floor_from_s, floor_to_s);
     let plain = fit(&without, &cols, NOISE_COLUMNS, coefficients_of(start, dt));
-    let density = |f: &WhittleFit| -> Vec<f64> {
-        cols.iter().map(|g| g.iter().zip(&f.coefficients).map(|(g, c)| g * c).sum()).collect()
-    };
     let (mut best, mut coefficient) = (plain, 0.0);
     for _ in 0..MAX_ALTERNATIONS {
-        let c = spectra.gls_coefficient(&density(&best));
+        let c = spectra.gls_coefficient(&spectral_density(&cols, &best.coefficients));
         let next = fit(&spectra.residual(c), &cols, NOISE_COLUMNS, best.coefficients);
         let change = best.neg_log_likelihood - next.neg_log_likelihood;
         // No gain (or a likelihood that is not a number): the profile is at its minimum.

@@ -84,7 +84,11 @@ impl CrossPeriodogram {
     /// The binned spectra of `x` and the regressor `z` (the same length).
     pub fn of(x: &[f64], z: &[f64]) -> Result<CrossPeriodogram, SimgapError> {
         if z.len() != x.len() {
-            return Err(SimgapError::TooShort { samples: z.len(), need: x.len() });
+            return Err(SimgapError::BadSetting(format!(
+                "the regressor has {} samples, the series {}",
+                z.len(),
+                x.len()
+            )));
         }
         let binned = Binned::of(&[x, z])?;
         let mut products = binned.products.into_iter();
@@ -291,6 +295,11 @@ pub struct WhittleFit {
     pub neg_log_likelihood: f64,
 }
 
+/// S = Σ cⱼ gⱼ at each bin of `cols` (module docs).
+pub fn spectral_density(cols: &[[f64; COLUMNS]], c: &[f64; COLUMNS]) -> Vec<f64> {
+    cols.iter().map(|g| g.iter().zip(c).map(|(g, c)| g * c).sum()).collect()
+}
+
 /// The binned Whittle negative log-likelihood of `c` (module docs); infinite where S ≤ 0.
 pub fn neg_log_likelihood(periodogram: &Periodogram, cols: &[[f64; COLUMNS]], c: &[f64; COLUMNS]) -> f64 {
     let mut total = 0.0;
@@ -321,7 +330,7 @@ pub fn fit(
         ell = neg_log_likelihood(periodogram, cols, &c);
     }
     for _ in 0..MAX_ITERATIONS {
-        let s: Vec<f64> = cols.iter().map(|g| g.iter().zip(&c).map(|(g, c)| g * c).sum()).collect();
+        let s = spectral_density(cols, &c);
         let weights: Vec<f64> = periodogram.weight.iter().zip(&s).map(|(l, s)| l / (s * s)).collect();
         let Some(proposal) = weighted_nnls(cols, &periodogram.mean, &weights, allowed) else { break };
         let mut step = 1.0;
