@@ -81,7 +81,12 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         threads: settings.threads,
         perturbations: Vec::new(),
     };
-    let data = TrainingData { x: train, rate_hz, temp_c: recording.temp_c.map(|t| &t[..n_train]) };
+    let data = TrainingData {
+        x: train,
+        rate_hz,
+        temp_c: recording.temp_c.map(|t| &t[..n_train]),
+        holdout: &recording.rate[n_train..],
+    };
     let builder = ModelBuilder { train: data, baseline, total_s: len as f64 / rate_hz, seed: settings.seed };
     let (baseline_model, baseline_terms) = builder.build(&[])?;
     let given = matches!(baseline, Baseline::Given(_));

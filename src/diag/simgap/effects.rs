@@ -8,15 +8,15 @@
 //! | `temperature` | slope of 1 s means of the rate on 1 s means of `temp_c` | bias ∝ recorded `temp_c` |
 //! | `ramp` | least-squares slope | `ramp_deg_h2` |
 //! | `sinusoid` | strongest line of the Hann periodogram against its local median, frequency refined, amplitude and phase by least squares | `sinusoids` |
-//! | `bias_jumps` | steps where adjacent 60 s means differ by more than 4.5 robust σ, at a peak of that difference ([`super::fit_events`]) | Poisson jumps of the detected rate and RMS size |
-//! | `spikes` | samples more than 5.5 robust σ from the median of their 5-sample neighbourhood | Poisson spikes of the detected rate and mean size |
+//! | `bias_jumps` | steps where adjacent 60 s means differ by more than 4.5 robust σ, at a peak of that difference ([`super::fit_events`]); rate and size counted over the hold-out's steps too | Poisson jumps of the detected rate and RMS size |
+//! | `spikes` | samples more than 5.5 robust σ from the median of their 5-sample neighbourhood, spread in time as a Poisson process's events | Poisson spikes of the detected rate and mean size |
 //! | `quantization` | the grid step of the values (when they sit on one) | rate-mode quantiser |
 //! | `gauss_markov` | a Gauss–Markov column in the Allan fit ([`super::baseline`]) | an extra Gauss–Markov process |
 //!
 //! The fits live in [`super::fit_time`], [`super::fit_spectral`] and [`super::fit_events`].
 
 use super::baseline::fit_noise_terms;
-use super::fit_events::{fit_jumps, fit_quantization, fit_spikes};
+use super::fit_events::{fit_jumps_counting_holdout, fit_quantization, fit_spikes};
 use super::fit_spectral::fit_sinusoid;
 use super::fit_time::{fit_ramp, fit_temperature, fit_warmup};
 use super::params::{EffectKind, EffectParams, Fitted, FittedEffect};
@@ -31,6 +31,10 @@ pub struct TrainingData<'a> {
     pub rate_hz: f64,
     /// Temperature, °C (same length as `x`).
     pub temp_c: Option<&'a [f64]>,
+    /// The held-out rest of the recording, rate in deg/s: the bias jumps count their steps there
+    /// too ([`super::fit_events::fit_jumps_counting_holdout`]); empty when there is none (the
+    /// refit's simulated training parts).
+    pub holdout: &'a [f64],
 }
 
 /// Fits `kind` on the training part.
@@ -43,7 +47,7 @@ pub fn fit_effect(kind: EffectKind, data: &TrainingData<'_>) -> Fitted {
         },
         EffectKind::Ramp => fit_ramp(data.x, data.rate_hz),
         EffectKind::Sinusoid => fit_sinusoid(data.x, data.rate_hz),
-        EffectKind::BiasJumps => fit_jumps(data.x, data.rate_hz),
+        EffectKind::BiasJumps => fit_jumps_counting_holdout(data.x, data.holdout, data.rate_hz),
         EffectKind::Spikes => fit_spikes(data.x, data.rate_hz),
         EffectKind::Quantization => fit_quantization(data.x),
         EffectKind::GaussMarkov => {

@@ -91,11 +91,12 @@ pub enum EffectParams {
     },
     /// Poisson bias jumps.
     BiasJumps {
-        /// Jumps per hour.
+        /// Jumps per hour, over the whole recording.
         rate_per_h: f64,
         /// RMS jump, deg/s.
         size_dps: f64,
-        /// Jumps found on the training part.
+        /// Jumps found on the whole recording (the training part's and the hold-out's;
+        /// [`super::fit_events::fit_jumps_counting_holdout`]).
         detected: usize,
     },
     /// Poisson spikes.

@@ -77,7 +77,7 @@ pub fn refit_noise_terms(
         let noise =
             simulate(&model, fs, train.x.len(), train.temp_c, member_seed(splitmix64(seed ^ CORRECTION_SEED), j))?;
         let member: Vec<f64> = noise.iter().zip(&deterministic).map(|(n, d)| n + d).collect();
-        let data = TrainingData { x: &member, ..*train };
+        let data = TrainingData { x: &member, holdout: &[], ..*train };
         let mut again = member.clone();
         for &kind in &kinds {
             if let Fitted::Found(FittedEffect { training_part: Some(part), .. }) = fit_effect(kind, &data) {
@@ -168,7 +168,7 @@ mod tests {
             ..SimModel::default()
         };
         let x = simulate(&noise, fs, len, None, 5).unwrap();
-        let train = TrainingData { x: &x, rate_hz: fs, temp_c: None };
+        let train = TrainingData { x: &x, rate_hz: fs, temp_c: None, holdout: &[] };
         let effect = FittedEffect { params: EffectParams::Quantization { step_dps: step }, training_part: None };
         let terms = refit_noise_terms(&train, &[&effect], false, len as f64 / fs, 9).unwrap();
         let bias = x.iter().sum::<f64>() / x.len() as f64;
