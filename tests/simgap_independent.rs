@@ -1,17 +1,18 @@
 //! `gyrocomp simgap` on cases of the independent generator (tools/simgap/independent_cases.py,
-//! numpy, written apart from src/diag/simgap; issue 16): a few REPORT-range seeds (1–999; the
-//! generator's tuning range is 1000–1999), short 10 Hz recordings, diagnosed through the CLI as a
-//! user would. Needs python3 with numpy: without it the test is skipped with a SKIP line, and
-//! under `CI=true` (where .ci/run installs numpy) it fails instead.
+//! numpy, written apart from src/diag/simgap; issue 16): a few REPORT-range seeds (1–999 and
+//! 3000–3999; the generator's tuning ranges are 1000–2999), short 10 Hz recordings, diagnosed
+//! through the CLI as a user would. Needs python3 with numpy: without it the test is skipped with
+//! a SKIP line, and under `CI=true` (where .ci/run installs numpy) it fails instead.
 //!
 //! Asserted: pure-IEEE recordings (the floor alone) get "no significant gap"; a Gauss–Markov
-//! process the IEEE terms absorb is found by the nested-model test; a ramp is not named a
-//! warm-up whose time constant the data do not bound; a slow ramp the IEEE terms absorb is found
-//! by its matched filter (a tuning seed, the case that filter was chosen on); with the case's
-//! floor given as the simulator (`--sim`, tools/simgap/score.py `--given-floor`), what the fitted
-//! terms absorb is found and a pure floor still shows no gap; and (ignored by default, heavy) on
-//! the report set of docs/evaluation.md "Independent cases" the classes named
-//! right there stay at their measured counts minus a margin.
+//! process or a temperature response the IEEE terms absorb is found by its nested-model test; a
+//! step in the hold-out part is named a bias jump; spikes are named before a small ramp kept
+//! beside them; a ramp is not named a warm-up whose time constant the data do not bound; a slow
+//! ramp the IEEE terms absorb is found by its matched filter (a tuning seed, the case that filter
+//! was chosen on); with the case's floor given as the simulator (`--sim`, tools/simgap/score.py
+//! `--given-floor`), what the fitted terms absorb is found and a pure floor still shows no gap;
+//! and (ignored by default, heavy) on the report set of docs/evaluation.md "Independent cases" the
+//! classes named right there stay at their measured counts minus a margin.
 
 #[allow(dead_code)] // its iceoryx2 probe is not used here
 #[path = "common/python.rs"]
@@ -124,6 +125,24 @@ fn a_warm_up_is_named_before_the_small_spikes_beside_it() {
     assert!(chosen.contains(&"spikes".to_owned()), "{chosen:?}");
 }
 
+/// Spikes alone (report seed 3095, the generator's "spikes": 53 per hour of about 1.2 deg/s over
+/// 3,915 s at 10 Hz on its flat nominal floor): they move the drift groups of the baseline too,
+/// and after them a ramp of 15 deg/h² is kept for a small further gain. The spikes, once
+/// simulated, leave no drift gap, so the ramp is not their cause and the spikes are named first.
+/// Until the twenty-second session the baseline's drift gap alone decided, and the ramp was named.
+#[test]
+fn spikes_are_named_before_a_small_ramp_kept_beside_them() {
+    if !numpy_or_skip("spikes_are_named_before_a_small_ramp_kept_beside_them") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (case, doc) = one_case(dir.path(), "3095", "spikes");
+    assert_eq!(case["floor"], "nominal_flat");
+    let tried: Vec<&str> = doc["tried"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
+    assert_eq!(tried, ["spikes", "ramp"], "added: {tried:?}");
+    assert_eq!(named_first(&doc), Some("spikes"), "{}: {}", doc["verdict"], doc["chosen"]);
+}
+
 /// A Gauss–Markov process that the fitted IEEE terms absorb (report seed 842, the generator's
 /// "gauss_markov": σ = 0.0027 deg/s, 18 s, on its quiet floor; 3,207 s at 10 Hz): the baseline
 /// shows no significant gap on either part, and the nested-model test (src/diag/simgap/nested.rs,
@@ -170,6 +189,29 @@ fn an_absorbed_temperature_response_is_found_by_the_nested_test() {
     assert_eq!(nested["passed"], true, "{nested}");
     assert!(nested["statistic"].as_f64().unwrap() > 1.5 * nested["threshold"].as_f64().unwrap(), "{nested}");
     assert_eq!(named_first(&doc), Some("temperature"), "{}", doc["verdict"]);
+}
+
+/// Bias jumps whose one detected step falls in the hold-out part (report seed 695, the
+/// generator's "few_large_steps": two steps over 3,217 s at 10 Hz on its quiet floor): the
+/// training part shows no gap and no step, and the hold-out's step is a significant gap. Until the
+/// twenty-second session the jumps' rate was counted on the training part alone, zero here, and
+/// the verdict was "unexplained"; the steps of the whole recording now count (a point process's
+/// next event cannot be placed, only its rate estimated: src/diag/simgap/fit_events.rs), and the
+/// jumps explain the hold-out's gap.
+#[test]
+fn a_step_in_the_holdout_part_is_named_a_bias_jump() {
+    if !numpy_or_skip("a_step_in_the_holdout_part_is_named_a_bias_jump") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (case, doc) = one_case(dir.path(), "695", "bias_jumps");
+    assert_eq!(case["floor"], "quiet");
+    assert_eq!(doc["before"]["train"]["significant"], false, "{}", doc["before"]["train"]);
+    assert_eq!(doc["before"]["holdout"]["significant"], true, "{}", doc["before"]["holdout"]);
+    let jumps = effect(&doc, "bias_jumps");
+    assert_eq!(jumps["params"]["detected"].as_f64(), Some(1.0), "{jumps}");
+    assert_eq!(jumps["explains"], true, "{jumps}");
+    assert_eq!(named_first(&doc), Some("bias_jumps"), "{}", doc["verdict"]);
 }
 
 /// The Gauss–Markov case of report `seed`, diagnosed into `dir`: the baseline alone shows no

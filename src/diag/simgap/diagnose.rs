@@ -266,7 +266,12 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     // Named first: the cause of the drift part of the gap (naming.rs); `tried` keeps the order
     // the effects were added in.
     let chosen = if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) {
-        naming_order(&before, &tried)
+        let first_alone = tried
+            .first()
+            .and_then(|&k| effects.iter().find(|e| e.kind == k))
+            .and_then(|e| e.evaluation.as_ref())
+            .unwrap_or(&before);
+        naming_order(&before, first_alone, &tried)
     } else {
         Vec::new()
     };
