@@ -74,6 +74,11 @@ fn effect<'a>(doc: &'a Value, name: &str) -> &'a Value {
     doc["effects"].as_array().unwrap().iter().find(|e| e["name"] == name).unwrap()
 }
 
+/// The effect names of list `key` ("tried", "chosen") of a diagnosis document.
+fn names<'a>(doc: &'a Value, key: &str) -> Vec<&'a str> {
+    doc[key].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect()
+}
+
 /// The effect a diagnosis document names first, if any.
 fn named_first(doc: &Value) -> Option<&str> {
     doc["chosen"].get(0).and_then(Value::as_str)
@@ -116,13 +121,10 @@ fn a_warm_up_is_named_before_the_small_spikes_beside_it() {
     let dir = tempfile::tempdir().unwrap();
     let (case, doc) = one_case(dir.path(), "763", "dominant");
     assert_eq!(case["sub"], "warmup+small_spikes");
-    let names = |key: &str| -> Vec<String> {
-        doc[key].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect()
-    };
-    let (tried, chosen) = (names("tried"), names("chosen"));
-    assert_eq!(tried.first().map(String::as_str), Some("spikes"), "added first: {tried:?}");
-    assert_eq!(chosen.first().map(String::as_str), Some("warmup"), "named first: {chosen:?} ({})", doc["verdict"]);
-    assert!(chosen.contains(&"spikes".to_owned()), "{chosen:?}");
+    let (tried, chosen) = (names(&doc, "tried"), names(&doc, "chosen"));
+    assert_eq!(tried.first().copied(), Some("spikes"), "added first: {tried:?}");
+    assert_eq!(chosen.first().copied(), Some("warmup"), "named first: {chosen:?} ({})", doc["verdict"]);
+    assert!(chosen.contains(&"spikes"), "{chosen:?}");
 }
 
 /// Spikes alone (report seed 3095, the generator's "spikes": 53 per hour of about 1.2 deg/s over
@@ -138,8 +140,7 @@ fn spikes_are_named_before_a_small_ramp_kept_beside_them() {
     let dir = tempfile::tempdir().unwrap();
     let (case, doc) = one_case(dir.path(), "3095", "spikes");
     assert_eq!(case["floor"], "nominal_flat");
-    let tried: Vec<&str> = doc["tried"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
-    assert_eq!(tried, ["spikes", "ramp"], "added: {tried:?}");
+    assert_eq!(names(&doc, "tried"), ["spikes", "ramp"], "added");
     assert_eq!(named_first(&doc), Some("spikes"), "{}: {}", doc["verdict"], doc["chosen"]);
 }
 
