@@ -16,7 +16,7 @@
 //! The fits live in [`super::fit_time`], [`super::fit_spectral`] and [`super::fit_events`].
 
 use super::baseline::fit_noise_terms;
-use super::fit_events::{fit_jumps_counting_holdout, fit_quantization, fit_spikes};
+use super::fit_events::{fit_jumps, fit_quantization, fit_spikes};
 use super::fit_spectral::fit_sinusoid;
 use super::fit_time::{fit_ramp, fit_temperature, fit_warmup};
 use super::params::{EffectKind, EffectParams, Fitted, FittedEffect};
@@ -32,7 +32,7 @@ pub struct TrainingData<'a> {
     /// Temperature, °C (same length as `x`).
     pub temp_c: Option<&'a [f64]>,
     /// The held-out rest of the recording, rate in deg/s: the bias jumps count their steps there
-    /// too ([`super::fit_events::fit_jumps_counting_holdout`]); empty when there is none (the
+    /// too ([`super::fit_events::fit_jumps`]); empty when there is none (the
     /// refit's simulated training parts).
     pub holdout: &'a [f64],
 }
@@ -47,7 +47,7 @@ pub fn fit_effect(kind: EffectKind, data: &TrainingData<'_>) -> Fitted {
         },
         EffectKind::Ramp => fit_ramp(data.x, data.rate_hz),
         EffectKind::Sinusoid => fit_sinusoid(data.x, data.rate_hz),
-        EffectKind::BiasJumps => fit_jumps_counting_holdout(data.x, data.holdout, data.rate_hz),
+        EffectKind::BiasJumps => fit_jumps(data.x, data.holdout, data.rate_hz),
         EffectKind::Spikes => fit_spikes(data.x, data.rate_hz),
         EffectKind::Quantization => fit_quantization(data.x),
         EffectKind::GaussMarkov => {

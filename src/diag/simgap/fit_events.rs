@@ -10,7 +10,7 @@
 //!   it can place (and a step that close to the ends cannot be told from one), and its flank is
 //!   not a peak of its own (on a slow flank a bump of the noise still can be). The steps of the
 //!   held-out part, found by the same detector on the whole recording, count towards the rate
-//!   and size ([`fit_jumps_counting_holdout`]).
+//!   and size ([`fit_jumps`]).
 //! - **Spikes**: r\[k] = x\[k] − median(x[k−2..=k+2]); samples with |r| above [`SPIKE_SIGMAS`]
 //!   robust σ of r that are the largest |r| within ±2 samples, when they are spread over the
 //!   part as a Poisson process's events are. Outliers that crowd into some stretch of it (an
@@ -84,16 +84,10 @@ impl StepScores {
     }
 }
 
-/// Bias jumps (module docs) of a series with no held-out rest: [`fit_jumps_counting_holdout`]
-/// with an empty hold-out.
-pub fn fit_jumps(x: &[f64], rate_hz: f64) -> Fitted {
-    fit_jumps_counting_holdout(x, &[], rate_hz)
-}
-
 /// Bias jumps of a recording's training part `train`, their rate and size counted over the
-/// held-out rest `holdout` too (module docs): the training part's steps are those [`fit_jumps`]
-/// finds on it, the hold-out's those the same detector finds on the whole recording past the
-/// training part's end (so a step just past the split counts).
+/// held-out rest `holdout` too (module docs; `holdout` empty for a series with none): the
+/// training part's steps are those the detector finds on it alone, the hold-out's those it finds
+/// on the whole recording past the training part's end (so a step just past the split counts).
 ///
 /// A jump process is a point process: where its steps fall cannot be predicted, only how often
 /// and how large they are. A recording whose few steps all fall in the hold-out part would give a
@@ -102,7 +96,7 @@ pub fn fit_jumps(x: &[f64], rate_hz: f64) -> Fitted {
 /// whole recording; the training part's steps alone are the deterministic part the noise is
 /// refitted without. For this effect the hold-out is therefore not out of sample for the rate:
 /// what it still checks is everything else (the steps' sizes, and that nothing else changed).
-pub fn fit_jumps_counting_holdout(train: &[f64], holdout: &[f64], rate_hz: f64) -> Fitted {
+pub fn fit_jumps(train: &[f64], holdout: &[f64], rate_hz: f64) -> Fitted {
     let jumps = match detect_jumps(train, rate_hz) {
         Ok(jumps) => jumps,
         Err(why) => return Fitted::NotApplicable(why),
@@ -299,13 +293,13 @@ mod tests {
         for (k, v) in x.iter_mut().enumerate() {
             *v += if k >= 10_000 { 0.08 } else { 0.0 } + if k >= 25_000 { -0.05 } else { 0.0 };
         }
-        let Fitted::Found(e) = fit_jumps(&x, 10.0) else { panic!() };
+        let Fitted::Found(e) = fit_jumps(&x, &[], 10.0) else { panic!() };
         let EffectParams::BiasJumps { detected, size_dps, .. } = e.params else { panic!() };
         assert_eq!(detected, 2);
         assert!((size_dps - ((0.08f64.powi(2) + 0.05f64.powi(2)) / 2.0).sqrt()).abs() < 0.01);
         let part = e.training_part.unwrap();
         assert!(part[5_000].abs() < 1e-12 && (part[20_000] - 0.08).abs() < 0.01);
-        assert!(matches!(fit_jumps(&noise(36_000, 2, 0.4), 10.0), Fitted::NotApplicable(_)));
+        assert!(matches!(fit_jumps(&noise(36_000, 2, 0.4), &[], 10.0), Fitted::NotApplicable(_)));
     }
 
     #[test]
@@ -322,7 +316,7 @@ mod tests {
                 .collect();
             let scores = StepScores::of(&warm, 10.0).unwrap();
             assert!(scores.strongest() > 1.5 * JUMP_SIGMAS, "{}", scores.strongest());
-            let found = fit_jumps(&warm, 10.0);
+            let found = fit_jumps(&warm, &[], 10.0);
             assert!(matches!(found, Fitted::NotApplicable(_)), "{time_constant_s} s: {found:?}");
         }
         // A step 100 s in (40 window positions, past half a window) is still placed.
@@ -330,7 +324,7 @@ mod tests {
         for v in step.iter_mut().skip(1_000) {
             *v += 0.08;
         }
-        let Fitted::Found(e) = fit_jumps(&step, 10.0) else { panic!() };
+        let Fitted::Found(e) = fit_jumps(&step, &[], 10.0) else { panic!() };
         assert!(matches!(e.params, EffectParams::BiasJumps { detected: 1, .. }), "{:?}", e.params);
         let part = e.training_part.unwrap();
         assert!(part[900].abs() < 1e-12 && (part[1_100] - 0.08).abs() < 0.01);
@@ -343,8 +337,8 @@ mod tests {
         for v in holdout.iter_mut().skip(6_000) {
             *v += 0.08;
         }
-        assert!(matches!(fit_jumps(&train, 10.0), Fitted::NotApplicable(_)));
-        let Fitted::Found(e) = fit_jumps_counting_holdout(&train, &holdout, 10.0) else { panic!() };
+        assert!(matches!(fit_jumps(&train, &[], 10.0), Fitted::NotApplicable(_)));
+        let Fitted::Found(e) = fit_jumps(&train, &holdout, 10.0) else { panic!() };
         let EffectParams::BiasJumps { detected, size_dps, rate_per_h } = e.params else { panic!() };
         assert_eq!(detected, 1);
         assert!((size_dps - 0.08).abs() < 0.01, "{size_dps}");
@@ -358,7 +352,7 @@ mod tests {
             *v -= 0.08;
         }
         let (stepped, holdout) = stepped.split_at(train.len());
-        let Fitted::Found(e) = fit_jumps_counting_holdout(stepped, holdout, 10.0) else { panic!() };
+        let Fitted::Found(e) = fit_jumps(stepped, holdout, 10.0) else { panic!() };
         assert!(matches!(e.params, EffectParams::BiasJumps { detected: 2, .. }), "{:?}", e.params);
         let part = e.training_part.unwrap();
         assert_eq!(part.len(), stepped.len());
@@ -369,11 +363,11 @@ mod tests {
         for v in early.iter_mut().skip(300) {
             *v += 0.08;
         }
-        assert!(matches!(fit_jumps(&early, 10.0), Fitted::NotApplicable(_)));
-        let Fitted::Found(e) = fit_jumps_counting_holdout(&train, &early, 10.0) else { panic!() };
+        assert!(matches!(fit_jumps(&early, &[], 10.0), Fitted::NotApplicable(_)));
+        let Fitted::Found(e) = fit_jumps(&train, &early, 10.0) else { panic!() };
         assert!(matches!(e.params, EffectParams::BiasJumps { detected: 1, .. }), "{:?}", e.params);
         // A hold-out with no step adds nothing.
-        assert!(matches!(fit_jumps_counting_holdout(&train, &early[..200], 10.0), Fitted::NotApplicable(_)));
+        assert!(matches!(fit_jumps(&train, &early[..200], 10.0), Fitted::NotApplicable(_)));
     }
 
     #[test]

@@ -96,7 +96,7 @@ pub enum EffectParams {
         /// RMS jump, deg/s.
         size_dps: f64,
         /// Jumps found on the whole recording (the training part's and the hold-out's;
-        /// [`super::fit_events::fit_jumps_counting_holdout`]).
+        /// [`super::fit_events::fit_jumps`]).
         detected: usize,
     },
     /// Poisson spikes.
