@@ -12,8 +12,10 @@
 //!   of α (vibration, oscillation with zero mean).
 //!
 //! A sample on which any test of any axis fires is an *alarm*. Moving = an alarm, the
-//! publisher's flag, or fewer than `settle_s` seconds since the last alarm (hysteresis: static
-//! again only after a clean stretch).
+//! publisher's flag, or fewer than `settle_s` seconds since the last alarm of the tests
+//! (hysteresis: static again only after a clean stretch). No settle follows the publisher's
+//! flag: the publisher knows when its motion ends, and a tail it left out fires the tests, whose
+//! alarm then starts the settle.
 //!
 //! **Delayed commit and look-back.** When an alarm follows a static stretch, the motion began
 //! before it was found. Its start is estimated as the span with the largest normalised mean
@@ -50,7 +52,8 @@ pub struct StatisticalConfig {
     pub windows_s: Vec<f64>,
     /// Variance-test window, seconds.
     pub variance_window_s: f64,
-    /// Hysteresis: seconds after the last alarm that are still moving.
+    /// Hysteresis: seconds after the last alarm of the tests that are still moving (none after
+    /// an alarm that carried the publisher's flag).
     pub settle_s: f64,
     /// Extra pending seconds discarded before a detected onset.
     pub guard_s: f64,
@@ -168,6 +171,9 @@ pub struct StatisticalDetector {
     /// Accepted samples since the last alarm (or since start).
     since_alarm: usize,
     moving: bool,
+    /// Whether the last alarm carried the publisher's flag: the publisher knows when its motion
+    /// ends, so no settle follows it (a tail the tests still see is an alarm of its own).
+    flagged_last: bool,
     counters: DetectorCounters,
     /// Deadlock watch over the current detector-only moving run.
     stuck: StuckWatch,
@@ -207,6 +213,7 @@ pub struct StatisticalState {
     rings: [PrefixRing; 3],
     since_alarm: usize,
     moving: bool,
+    flagged_last: bool,
     stuck: StuckWatch,
 }
 
@@ -238,6 +245,7 @@ impl StatisticalDetector {
             rings: Default::default(),
             since_alarm: 0,
             moving: false,
+            flagged_last: false,
             counters: DetectorCounters::default(),
             stuck: StuckWatch::default(),
             relearn_blocks: 0,
@@ -338,8 +346,15 @@ impl StatisticalDetector {
             // reference. The watch pauses (a deadlock persists across flagged motions).
             return false;
         }
-        if !self.moving || self.relearn_blocks == 0 {
-            self.stuck.reset();
+        if self.relearn_blocks == 0 {
+            return false;
+        }
+        if !self.moving {
+            // The run ends with a clean stretch of settle_s; static samples right after the
+            // publisher's flag (no settle follows it) only pause the watch, as the flag does.
+            if self.since_alarm >= self.settle {
+                self.stuck.reset();
+            }
             return false;
         }
         for k in 0..3 {
@@ -450,7 +465,8 @@ impl MotionDetector for StatisticalDetector {
             }
             self.since_alarm = 0;
             self.moving = true;
-        } else if self.moving && self.since_alarm >= self.settle {
+            self.flagged_last = input.publisher_moving;
+        } else if self.moving && (self.flagged_last || self.since_alarm >= self.settle) {
             self.moving = false;
         } else if self.moving {
             self.counters.settling += 1;
@@ -502,6 +518,7 @@ impl MotionDetector for StatisticalDetector {
             rings: self.rings.clone(),
             since_alarm: self.since_alarm,
             moving: self.moving,
+            flagged_last: self.flagged_last,
             stuck: self.stuck.clone(),
         }))
     }
@@ -524,6 +541,7 @@ impl MotionDetector for StatisticalDetector {
         self.rings = s.rings.clone();
         self.since_alarm = s.since_alarm;
         self.moving = s.moving;
+        self.flagged_last = s.flagged_last;
         self.stuck = s.stuck.clone();
         Ok(())
     }
@@ -566,6 +584,14 @@ mod tests {
         d.push(&DetectorInput { rate: &rate, drift: &[e; 3], noise, publisher_moving: flag })
     }
 
+    /// 70 s of white noise, every sample judged static (the windows fill).
+    fn still_for_70_s(d: &mut StatisticalDetector, noise: &[NoiseCalibration; 3], rng: &mut Xoshiro256PlusPlus) {
+        for _ in 0..700 {
+            let r: [f64; 3] = std::array::from_fn(|_| SIGMA * normal(rng));
+            assert!(!push(d, noise, r, false).moving);
+        }
+    }
+
     #[test]
     fn white_noise_raises_few_alarms_and_the_windows_are_sized_in_seconds() {
         let (mut d, noise, mut rng) = setup();
@@ -583,10 +609,7 @@ mod tests {
     #[test]
     fn a_slow_shift_is_found_and_its_span_discarded_and_a_flag_discards_nothing() {
         let (mut d, noise, mut rng) = setup();
-        for _ in 0..700 {
-            let r: [f64; 3] = std::array::from_fn(|_| SIGMA * normal(&mut rng));
-            assert!(!push(&mut d, &noise, r, false).moving);
-        }
+        still_for_70_s(&mut d, &noise, &mut rng);
         // 0.05 deg/s = σ/2 per sample: invisible to one sample, clear to a 10 s mean (5σ/√100·10).
         let mut found = None;
         for i in 0..300 {
@@ -611,6 +634,31 @@ mod tests {
         // The publisher's flag: moving at once, nothing discarded.
         let dec = push(&mut d, &noise, [0.0; 3], true);
         assert!(dec.moving && dec.flush && dec.discard == 0, "{dec:?}");
+    }
+
+    #[test]
+    fn no_settle_follows_the_publishers_flag_but_one_follows_a_tail_it_left_out() {
+        let (mut d, noise, mut rng) = setup();
+        still_for_70_s(&mut d, &noise, &mut rng);
+        // A flagged turn of 20 deg/s for 10 s, then still: static with the first unflagged sample.
+        for _ in 0..100 {
+            assert!(push(&mut d, &noise, [20.0, 0.0, 0.0], true).moving);
+        }
+        let r: [f64; 3] = std::array::from_fn(|_| SIGMA * normal(&mut rng));
+        assert!(!push(&mut d, &noise, r, false).moving, "the publisher said the motion ended");
+        // A flagged turn whose flag drops 0.5 s early: the tail fires, and the settle (5 s) runs
+        // from the tail's last alarm.
+        for _ in 0..100 {
+            push(&mut d, &noise, [20.0, 0.0, 0.0], true);
+        }
+        for _ in 0..5 {
+            assert!(push(&mut d, &noise, [20.0, 0.0, 0.0], false).moving);
+        }
+        let mut quiet = 0;
+        while push(&mut d, &noise, [0.0; 3], false).moving {
+            quiet += 1;
+        }
+        assert_eq!(quiet, 49);
     }
 
     #[test]

@@ -41,7 +41,7 @@ use crate::model::snapshot::ModelState;
 /// First bytes of every snapshot.
 pub const MAGIC: [u8; 8] = *b"GYROSNAP";
 /// Version of the layout and payload written by this build (the only one it reads).
-pub const FORMAT_VERSION: u32 = 6;
+pub const FORMAT_VERSION: u32 = 7;
 /// Largest payload accepted, bytes (a 1,000,000-sample history of three axes is 24 MB).
 pub const MAX_PAYLOAD: usize = 256 << 20;
 /// Bytes before the payload.
