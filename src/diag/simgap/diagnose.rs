@@ -245,13 +245,11 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     })?;
     ensembles_run += combination.evaluations;
     let tried = combination.chosen;
+    // The first kept effect's own report: its own null and its evaluation alone.
+    let first_tried = tried.first().and_then(|&k| effects.iter().find(|e| e.kind == k));
     // What the share of a partial explanation is measured from: the baseline when it shows a
     // significant gap, else the first kept effect's own null (the route it was accepted by).
-    let reference = if before.significant() {
-        Some(&before)
-    } else {
-        tried.first().and_then(|&k| effects.iter().find(|e| e.kind == k)).and_then(|e| e.own_null.as_ref())
-    };
+    let reference = if before.significant() { Some(&before) } else { first_tried.and_then(|e| e.own_null.as_ref()) };
     let verdict = if !before.significant() && own_null.is_empty() {
         Verdict::NoSignificantGap
     } else if tried.is_empty() {
@@ -266,11 +264,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     // Named first: the cause of the drift part of the gap (naming.rs); `tried` keeps the order
     // the effects were added in.
     let chosen = if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) {
-        let first_alone = tried
-            .first()
-            .and_then(|&k| effects.iter().find(|e| e.kind == k))
-            .and_then(|e| e.evaluation.as_ref())
-            .unwrap_or(&before);
+        let first_alone = first_tried.and_then(|e| e.evaluation.as_ref()).unwrap_or(&before);
         naming_order(&before, first_alone, &tried)
     } else {
         Vec::new()
