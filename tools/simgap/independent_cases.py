@@ -32,6 +32,10 @@ log-uniform in the class's range; its bin is the third of the log-range it falls
     bias_jumps    few_large: Poisson 1-6 /h, each N(0, (m s)^2), m in [0.02, 0.1];
                   many_small: 20-100 /h of m in [0.004, 0.02] (a fraction of the per-sample
                   noise, several sigma in 100 s means)                            [bias_jumps]
+    bias_jumps_mid  between the two: Poisson 6-20 /h of m in [0.008, 0.04] (0.1-0.4 of the
+                  per-sample noise, 3-13 white-noise sigma in 100 s means: the issue's "many
+                  small steps"; added in the twenty-fourth session, after the classes above, so
+                  their seeds draw the same cases as before)                      [bias_jumps]
     spikes        Poisson 5-100 /h single-sample outliers of ±m*s, m in [0.6, 3]   [spikes]
     quantization  output rounded to a grid of m*s deg/s, m in [0.02, 0.2]          [quantization]
     gauss_markov  sigma = m * s, m in [0.006, 0.04], correlation time log-uniform 5-300 s
@@ -89,6 +93,7 @@ CLASSES = [
     "dominant",
     "none",
     "outside",
+    "bias_jumps_mid",
 ]
 
 
@@ -195,6 +200,16 @@ def add_effect(rng, kind, t, fs, duration, s, temp, strength=None):
         for at, size in zip(times, sizes):
             x[t >= at] += size
         return x, None, dict(sub="many_small_steps" if many else "few_large_steps", m=m, u=u, rate_per_h=rate, jumps=int(times.size), time_scale_s=3600.0 / rate)
+    if kind == "bias_jumps_mid":
+        rate = rng.uniform(6.0, 20.0)
+        m, u = draw(0.008, 0.04)
+        times = poisson_times(rng, rate, duration)
+        if times.size == 0:
+            times = np.array([rng.uniform(0.1, 0.6) * duration])
+        x = np.zeros(n)
+        for at, size in zip(times, rng.choice([-1.0, 1.0], times.size) * m * s):
+            x[t >= at] += size
+        return x, None, dict(sub="mid_steps", m=m, u=u, rate_per_h=rate, jumps=int(times.size), time_scale_s=3600.0 / rate)
     if kind == "spikes":
         m, u = draw(0.6, 3.0)
         rate = rng.uniform(5.0, 100.0)
@@ -272,7 +287,7 @@ def make_case(seed, klass, rates, durations, floors):
         if p is not None:
             post.append(p)
         oracle = oracle_z(klass, add, info, floor_model, fs)
-        expected = klass
+        expected = "bias_jumps" if klass == "bias_jumps_mid" else klass
     for p in post:
         x = p(x)
     return t, x, temp, dict(
