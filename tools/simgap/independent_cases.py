@@ -154,6 +154,18 @@ def poisson_times(rng, rate_per_h, duration):
     return np.sort(rng.uniform(0.0, duration, count))
 
 
+def step_process(rng, t, duration, rate_per_h, draw_sizes):
+    """Bias steps at Poisson times (at least one, placed in the first 10-60 % when none fall),
+    sizes from draw_sizes(count); the summed step signal and the number of steps."""
+    times = poisson_times(rng, rate_per_h, duration)
+    if times.size == 0:
+        times = np.array([rng.uniform(0.1, 0.6) * duration])
+    x = np.zeros(t.size)
+    for at, size in zip(times, draw_sizes(times.size)):
+        x[t >= at] += size
+    return x, int(times.size)
+
+
 def add_effect(rng, kind, t, fs, duration, s, temp, strength=None):
     """Returns (signal to add, post-processing fn or None, description dict).
 
@@ -192,24 +204,16 @@ def add_effect(rng, kind, t, fs, duration, s, temp, strength=None):
         else:
             rate = rng.uniform(1.0, 6.0)
             m, u = draw(0.02, 0.1)
-        times = poisson_times(rng, rate, duration)
-        if times.size == 0:
-            times = np.array([rng.uniform(0.1, 0.6) * duration])
-        sizes = rng.standard_normal(times.size) * m * s if not many else rng.choice([-1.0, 1.0], times.size) * m * s
-        x = np.zeros(n)
-        for at, size in zip(times, sizes):
-            x[t >= at] += size
-        return x, None, dict(sub="many_small_steps" if many else "few_large_steps", m=m, u=u, rate_per_h=rate, jumps=int(times.size), time_scale_s=3600.0 / rate)
+        if many:
+            x, jumps = step_process(rng, t, duration, rate, lambda k: rng.choice([-1.0, 1.0], k) * m * s)
+        else:
+            x, jumps = step_process(rng, t, duration, rate, lambda k: rng.standard_normal(k) * m * s)
+        return x, None, dict(sub="many_small_steps" if many else "few_large_steps", m=m, u=u, rate_per_h=rate, jumps=jumps, time_scale_s=3600.0 / rate)
     if kind == "bias_jumps_mid":
         rate = rng.uniform(6.0, 20.0)
         m, u = draw(0.008, 0.04)
-        times = poisson_times(rng, rate, duration)
-        if times.size == 0:
-            times = np.array([rng.uniform(0.1, 0.6) * duration])
-        x = np.zeros(n)
-        for at, size in zip(times, rng.choice([-1.0, 1.0], times.size) * m * s):
-            x[t >= at] += size
-        return x, None, dict(sub="mid_steps", m=m, u=u, rate_per_h=rate, jumps=int(times.size), time_scale_s=3600.0 / rate)
+        x, jumps = step_process(rng, t, duration, rate, lambda k: rng.choice([-1.0, 1.0], k) * m * s)
+        return x, None, dict(sub="mid_steps", m=m, u=u, rate_per_h=rate, jumps=jumps, time_scale_s=3600.0 / rate)
     if kind == "spikes":
         m, u = draw(0.6, 3.0)
         rate = rng.uniform(5.0, 100.0)
