@@ -29,15 +29,17 @@
 //!   1 s means against its neighbours (the full-length periodogram
 //!   of [`super::fit_spectral::LineSearch`] with the neighbours' reach: from the 17th bin of the
 //!   zero-padded periodogram, 9–17 cycles per part by its length; log10), the strongest step of
-//!   the jump detector in robust σ ([`super::fit_events::StepScores`], log10) and, when the
-//!   recording has a temperature, the slope of the rate on it
+//!   the jump detector in robust σ ([`super::fit_events::StepScores`], log10), the step kurtosis
+//!   ([`super::fit_events::step_kurtosis`], log10; in [`Group::Derived`], outside the gap, so that
+//!   adding it moved no other diagnosis: the gap already holds the kurtosis of block increments)
+//!   and, when the recording has a temperature, the slope of the rate on it
 //!   ([`super::fit_time::temperature_slope`], deg/s/°C; every member sees the recorded
 //!   temperature).
 
 use serde::Serialize;
 
 use super::SimgapError;
-use super::fit_events::StepScores;
+use super::fit_events::{StepScores, step_kurtosis};
 use super::fit_spectral::{LineSearch, Reach};
 use super::fit_time::{ramp_change, temperature_slope, warmup_fit};
 use super::robust::{block_means, kurtosis, linear_fit, median};
@@ -96,7 +98,8 @@ pub enum Group {
     /// Effect detectors (warm-up amplitude, slow line, strongest step, temperature slope).
     Detectors,
     /// Matched filters that are functions of statistics already in the gap (the ramp's change, a
-    /// line through the bias trajectory's block means): in the vector for the detector test
+    /// line through the bias trajectory's block means), or close kin of them (the step kurtosis,
+    /// of the increment kurtosis): in the vector for the detector test
     /// ([`super::greedy::detector_test`]) and the report's *where*, not in the gap or the score,
     /// which would count the same evidence twice.
     Derived,
@@ -171,8 +174,8 @@ const SPECTRAL_LINE_SCALE: Scale = Scale::Maximum;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StatInfo {
     /// Kind: `allan_deviation`, `psd`, `spectral_line`, `kurtosis`, `quantisation`,
-    /// `compensation`, `bias_trajectory`, `trajectory_roughness`, `strongest_step` or
-    /// `temperature_slope`.
+    /// `compensation`, `bias_trajectory`, `trajectory_roughness`, `warmup_amplitude`,
+    /// `ramp_change`, `slow_line`, `strongest_step`, `step_kurtosis` or `temperature_slope`.
     pub statistic: &'static str,
     /// Which τ, frequency band, scale or time span.
     pub band: String,
@@ -368,6 +371,14 @@ impl StatLayout {
             unit: "robust sigma",
             x: f64::NAN,
         });
+        info.push(StatInfo {
+            statistic: "step_kurtosis",
+            band: "geometric mean kurtosis of the 20, 40, 60 and 120 s window differences".into(),
+            group: Group::Derived,
+            scale: Scale::Log10,
+            unit: "ratio",
+            x: f64::NAN,
+        });
         if temperature {
             info.push(StatInfo {
                 statistic: "temperature_slope",
@@ -449,6 +460,7 @@ impl StatLayout {
         let slow_rate = self.rate_hz / second as f64;
         out.push(log10(LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours).map_or(0.0, |l| l.ratio)));
         out.push(log10(StepScores::of(x, self.rate_hz).map_or(0.0, |s| s.strongest())));
+        out.push(log10(step_kurtosis(x, self.rate_hz)));
         if self.temperature {
             let temp = temp_c.filter(|t| t.len() == x.len()).ok_or(SimgapError::NoTemperature)?;
             out.push(temperature_slope(x, temp, self.rate_hz));
