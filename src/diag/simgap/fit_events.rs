@@ -103,9 +103,8 @@ impl StepScores {
     /// The window differences of `x`; `None` when fewer than 3 blocks fit in a window or `x` is
     /// constant.
     pub fn of(x: &[f64], rate_hz: f64) -> Option<StepScores> {
-        let block = (rate_hz.round() as usize).max(1);
-        let y = block_means(x, block);
-        let w = ((JUMP_WINDOW_S * rate_hz / block as f64).round() as usize).min(y.len() / 8);
+        let (block, y) = second_means(x, rate_hz);
+        let w = window_blocks(JUMP_WINDOW_S, rate_hz, block, y.len());
         let (positions, d) = window_differences(&y, w)?;
         let sigma = mad_sigma(&d);
         (sigma > 0.0).then_some(StepScores { block, window: w, positions, d, sigma })
@@ -115,6 +114,17 @@ impl StepScores {
     pub fn strongest(&self) -> f64 {
         self.d.iter().fold(0.0, |m: f64, v| m.max(v.abs())) / self.sigma
     }
+}
+
+/// The means of `x` over blocks of about one second: samples per block, and the means.
+fn second_means(x: &[f64], rate_hz: f64) -> (usize, Vec<f64>) {
+    let block = (rate_hz.round() as usize).max(1);
+    (block, block_means(x, block))
+}
+
+/// A window of `window_s` seconds in blocks of `block` samples, at most an eighth of the `blocks`.
+fn window_blocks(window_s: f64, rate_hz: f64, block: usize, blocks: usize) -> usize {
+    ((window_s * rate_hz / block as f64).round() as usize).min(blocks / 8)
 }
 
 /// The window difference d\[i] = mean(y[i..i+w]) − mean(y[i−w..i]) of the block means `y` at
@@ -139,12 +149,9 @@ fn window_differences(y: &[f64], w: usize) -> Option<(Vec<usize>, Vec<f64>)> {
 /// [`STEP_KURTOSIS_WINDOWS_S`] (each at most an eighth of the 1 s means, and at least 3 of them),
 /// of the kurtosis of the window difference. 3 (a Gaussian's) when no window fits.
 pub fn step_kurtosis(x: &[f64], rate_hz: f64) -> f64 {
-    let block = (rate_hz.round() as usize).max(1);
-    let y = block_means(x, block);
-    let mut windows: Vec<usize> = STEP_KURTOSIS_WINDOWS_S
-        .iter()
-        .map(|s| ((s * rate_hz / block as f64).round() as usize).min(y.len() / 8))
-        .collect();
+    let (block, y) = second_means(x, rate_hz);
+    let mut windows: Vec<usize> =
+        STEP_KURTOSIS_WINDOWS_S.iter().map(|&s| window_blocks(s, rate_hz, block, y.len())).collect();
     windows.dedup();
     let logs: Vec<f64> =
         windows.iter().filter_map(|&w| window_differences(&y, w)).map(|(_, d)| kurtosis(&d).log10()).collect();
@@ -184,18 +191,15 @@ pub fn fit_jumps(train: &[f64], holdout: &[f64], rate_hz: f64) -> Fitted {
             many_steps(hours)
         ));
     }
-    let jumps: Vec<(usize, f64)> = jumps.iter().map(|j| (j.at, j.size)).collect();
-    let held: Vec<(usize, f64)> = held.iter().map(|j| (j.at, j.size)).collect();
-    let hours = (train.len() + holdout.len()) as f64 / rate_hz / 3600.0;
     let all = jumps.len() + held.len();
-    let size = (jumps.iter().chain(&held).map(|j| j.1 * j.1).sum::<f64>() / all as f64).sqrt();
+    let size = (jumps.iter().chain(&held).map(|j| j.size * j.size).sum::<f64>() / all as f64).sqrt();
     let training_part = (!jumps.is_empty()).then(|| {
         let mut part = vec![0.0; train.len()];
         let mut level = 0.0;
         let mut next = jumps.iter().peekable();
         for (k, p) in part.iter_mut().enumerate() {
-            while next.peek().is_some_and(|j| j.0 <= k) {
-                level += next.next().map_or(0.0, |j| j.1);
+            while next.peek().is_some_and(|j| j.at <= k) {
+                level += next.next().map_or(0.0, |j| j.size);
             }
             *p = level;
         }

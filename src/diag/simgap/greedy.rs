@@ -402,21 +402,26 @@ mod tests {
         assert!(!combination.after.significant());
     }
 
-    /// The detector test passes when the effect's matched filter is far out against its own null
-    /// and back in the band with the effect; not when either fails, nor once outranked.
-    #[test]
-    fn the_detector_test_needs_both_sides() {
-        let info: Vec<StatInfo> = ["psd", "temperature_slope"]
-            .into_iter()
-            .map(|statistic| StatInfo {
+    /// Statistics `names` of one `group`, compared as they are.
+    fn linear_infos(names: &[&'static str], group: Group) -> Vec<StatInfo> {
+        names
+            .iter()
+            .map(|&statistic| StatInfo {
                 statistic,
                 band: String::new(),
-                group: Group::Detectors,
+                group,
                 scale: Scale::Linear,
                 unit: "",
                 x: f64::NAN,
             })
-            .collect();
+            .collect()
+    }
+
+    /// The detector test passes when the effect's matched filter is far out against its own null
+    /// and back in the band with the effect; not when either fails, nor once outranked.
+    #[test]
+    fn the_detector_test_needs_both_sides() {
+        let info = linear_infos(&["psd", "temperature_slope"], Group::Detectors);
         let at = |slope: f64| {
             let m = members();
             let real = vec![0.0, slope];
@@ -478,17 +483,7 @@ mod tests {
     /// quantile (3.02 and 3.23) does not, nor does one the effect's model leaves far out.
     #[test]
     fn the_jumps_pass_by_either_detector_at_the_shared_level() {
-        let info: Vec<StatInfo> = ["strongest_step", "step_kurtosis"]
-            .into_iter()
-            .map(|statistic| StatInfo {
-                statistic,
-                band: String::new(),
-                group: Group::Derived,
-                scale: Scale::Linear,
-                unit: "",
-                x: f64::NAN,
-            })
-            .collect();
+        let info = linear_infos(&["strongest_step", "step_kurtosis"], Group::Derived);
         let members = uniform_members(40, 2, 11);
         let at = |step: f64, kurtosis: f64| Evaluation {
             train: PartComparison::new(&info, vec![step, kurtosis], &members),
