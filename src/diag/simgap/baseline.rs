@@ -197,6 +197,15 @@ pub fn fit_noise_terms_to(
 }
 
 #[cfg(test)]
+impl NoiseTerms {
+    /// A floor of white noise `n` (deg/s/√Hz), flicker `b` (deg/s) and rate random walk `k`
+    /// (deg/s/√s) alone, its flicker from 0.9 s: the truth the tests simulate from.
+    pub(crate) fn floor(n: f64, b: f64, k: f64) -> Self {
+        Self { q: 0.0, n, b, k, r: 0.0, floor_from_s: 0.9, gauss_markov: None, rms_relative_residual: 0.0 }
+    }
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::diag::simgap::model::simulate;
@@ -204,16 +213,7 @@ mod tests {
     /// The fitted terms reproduce a simulated axis they were fitted to (white + flicker + RRW).
     #[test]
     fn recovers_a_simulated_axis() {
-        let truth = NoiseTerms {
-            q: 0.0,
-            n: 0.04,
-            b: 0.008,
-            k: 1e-4,
-            r: 0.0,
-            floor_from_s: 0.9,
-            gauss_markov: None,
-            rms_relative_residual: 0.0,
-        };
+        let truth = NoiseTerms::floor(0.04, 0.008, 1e-4);
         let x = simulate(&truth.to_model(10.0, 20_000.0, 0.4), 10.0, 200_000, None, 5).unwrap();
         let fit = fit_noise_terms(&x, 10.0, 20_000.0, false).unwrap();
         assert!((fit.n / truth.n - 1.0).abs() < 0.03, "{fit:?}");

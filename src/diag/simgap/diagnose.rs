@@ -21,7 +21,7 @@
 //! [`super::builder`].
 
 use super::SimgapError;
-use super::baseline::fit_noise_terms;
+use super::baseline::{NoiseTerms, fit_noise_terms};
 use super::builder::ModelBuilder;
 use super::effects::{TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
@@ -30,8 +30,10 @@ use super::fit_time::warmup_unbounded;
 use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, ramp_before_unbounded_warmup, removes_most};
 use super::model::SimModel;
 use super::naming::naming_order;
-use super::nested::gauss_markov_test;
+use super::nested::{NestedTest, gauss_markov_test};
+use super::nested_ramp::ramp_test;
 use super::nested_temperature::temperature_test;
+use super::nested_warmup::warmup_test;
 use super::params::{EffectKind, EffectParams, Fitted, FittedEffect};
 use super::stats::StatLayout;
 use super::uncertainty::bootstrap;
@@ -139,38 +141,9 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 let detector = own_null.as_ref().and_then(|n| {
                     detector_test(*kind, setup.layout_train.info(), setup.layout_hold.info(), n, &evaluation)
                 });
-                let nested = match (&baseline_terms, kind) {
-                    (Some(terms), EffectKind::GaussMarkov) => {
-                        // A test of presence with its own null: on the whole recording, where a
-                        // stationary process leaves ~1.4× the training part's evidence.
-                        let test = gauss_markov_test(recording.rate, rate_hz, terms, builder.total_s, settings.seed)?;
-                        tracing::info!(
-                            "gauss_markov nested test: S {:.4}, null zero share {:.2}, mean {:.4}, threshold {:.4}, passed {}",
-                            test.statistic,
-                            test.null_zero_share,
-                            test.null_mean,
-                            test.threshold,
-                            test.passed
-                        );
-                        Some(test)
-                    }
-                    (Some(terms), EffectKind::Temperature) => match recording.temp_c {
-                        Some(temp) => {
-                            // A test of presence on the whole recording, like the process's.
-                            let test =
-                                temperature_test(recording.rate, temp, rate_hz, terms, builder.total_s, settings.seed)?;
-                            tracing::info!(
-                                "temperature nested test: S {:.4}, null mean {:.4}, threshold {:.4}, passed {}",
-                                test.statistic,
-                                test.null_mean,
-                                test.threshold,
-                                test.passed
-                            );
-                            Some(test)
-                        }
-                        None => None,
-                    },
-                    _ => None,
+                let nested = match &baseline_terms {
+                    Some(terms) => nested_test(*kind, recording, terms, builder.total_s, settings.seed)?,
+                    None => None,
                 };
                 if let Some(n) = &own_null {
                     tracing::info!(
@@ -293,4 +266,35 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         verdict,
         ensembles_run,
     })
+}
+
+/// The nested-model test of `kind` against the fitted `terms`, where the effect has one: a test of
+/// presence on the whole recording (a stationary process or a slow bias motion leaves more evidence
+/// there than in the training part; each test has its own null at the same length), whose model
+/// reaches `total_s`; `seed` seeds its null.
+fn nested_test(
+    kind: EffectKind,
+    recording: &Recording<'_>,
+    terms: &NoiseTerms,
+    total_s: f64,
+    seed: u64,
+) -> Result<Option<NestedTest>, SimgapError> {
+    let (x, rate_hz) = (recording.rate, recording.rate_hz);
+    let test = match (kind, recording.temp_c) {
+        (EffectKind::GaussMarkov, _) => gauss_markov_test(x, rate_hz, terms, total_s, seed)?,
+        (EffectKind::Warmup, _) => warmup_test(x, rate_hz, terms, total_s, seed)?,
+        (EffectKind::Ramp, _) => ramp_test(x, rate_hz, terms, total_s, seed)?,
+        (EffectKind::Temperature, Some(temp)) => temperature_test(x, temp, rate_hz, terms, total_s, seed)?,
+        _ => return Ok(None),
+    };
+    tracing::info!(
+        "{} nested test: S {:.4}, null zero share {:.2}, mean {:.4}, threshold {:.4}, passed {}",
+        kind.name(),
+        test.statistic,
+        test.null_zero_share,
+        test.null_mean,
+        test.threshold,
+        test.passed
+    );
+    Ok(Some(test))
 }

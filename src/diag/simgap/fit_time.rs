@@ -11,7 +11,7 @@ const WARMUP_GRID: usize = 56;
 /// ending at duration/3 pinned to its edge and then lost to the ramp (issue 16, failure 4).
 /// Whether such a slow exponential or a ramp describes the recording is left to the hold-out
 /// part, where the two predictions differ (the ranking by both parts' gaps).
-const WARMUP_RANGE: (f64, f64) = (1.0 / 300.0, 1.0);
+pub const WARMUP_RANGE: (f64, f64) = (1.0 / 300.0, 1.0);
 /// Smallest temperature range (°C) over the training part for a temperature fit.
 const MIN_TEMPERATURE_RANGE_C: f64 = 0.05;
 

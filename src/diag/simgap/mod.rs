@@ -16,9 +16,11 @@
 //! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
 //!   [`uncertainty`]: the noise terms' uncertainty carried into it.
 //! - [`greedy`]: acceptance, ranking and the greedy combination of effects; [`nested`]: the
-//!   nested-model test of a Gauss–Markov process the baseline may have absorbed, and
-//!   [`nested_temperature`] that of a temperature response, on the Whittle likelihood of
-//!   [`whittle`].
+//!   nested-model test of a Gauss–Markov process the baseline may have absorbed,
+//!   [`nested_temperature`] that of a temperature response and [`nested_warmup`] that of a
+//!   warm-up, on the Whittle likelihood of [`whittle`] (a regressor's gain in
+//!   [`nested_regressor`]); [`nested_ramp`] that of a ramp, by generalised least squares on block
+//!   means.
 //! - [`diagnose`](mod@diagnose): the whole diagnosis of one recording; [`inputs`] (settings,
 //!   baseline, recording), [`outcome`] (verdict, effect results, diagnosis), [`builder`] (the
 //!   models it simulates).
@@ -41,7 +43,10 @@ pub mod inputs;
 pub mod model;
 pub mod naming;
 pub mod nested;
+pub mod nested_ramp;
+pub mod nested_regressor;
 pub mod nested_temperature;
+pub mod nested_warmup;
 pub mod outcome;
 pub mod params;
 pub mod refit;

@@ -196,16 +196,7 @@ mod tests {
     fn finds_an_absorbed_process_and_no_missing_one() {
         let (fs, len) = (10.0, 30_000);
         let total = len as f64 / fs;
-        let floor = NoiseTerms {
-            q: 0.0,
-            n: 0.03,
-            b: 0.003,
-            k: 4e-5,
-            r: 0.0,
-            floor_from_s: 0.9,
-            gauss_markov: None,
-            rms_relative_residual: 0.0,
-        };
+        let floor = NoiseTerms::floor(0.03, 0.003, 4e-5);
         let plain = floor.to_model(fs, total, 0.0);
         let with = SimModel { extra_gauss_markov: Some((0.03, 20.0)), ..plain.clone() };
         for seed in 1..=3 {

@@ -67,7 +67,8 @@ pub struct EffectResult {
     /// The test on the effect's own detector against its own null ([`super::greedy`]).
     pub detector: Option<DetectorTest>,
     /// The nested-model test of the effect against the baseline: a Gauss–Markov process
-    /// ([`super::nested`]) or a temperature response ([`super::nested_temperature`]).
+    /// ([`super::nested`]), a temperature response ([`super::nested_temperature`]), a warm-up
+    /// ([`super::nested_warmup`]) or a ramp ([`super::nested_ramp`]).
     pub nested: Option<NestedTest>,
 }
 

@@ -56,7 +56,7 @@ pub struct Periodogram {
 impl Periodogram {
     /// The binned periodogram of `x` (module docs).
     pub fn of(x: &[f64]) -> Result<Periodogram, SimgapError> {
-        let binned = Binned::of(&[x])?;
+        let binned = Binned::of(&[&SpectralTransform::of(x)?])?;
         let mean = binned.products.into_iter().next().unwrap_or_default();
         Ok(Periodogram { omega: binned.omega, mean, weight: binned.weight })
     }
@@ -90,6 +90,11 @@ impl CrossPeriodogram {
                 x.len()
             )));
         }
+        CrossPeriodogram::of_transforms(&SpectralTransform::of(x)?, &SpectralTransform::of(z)?)
+    }
+
+    /// The binned spectra of a series and a regressor from their transforms (of the same length).
+    pub fn of_transforms(x: &SpectralTransform, z: &SpectralTransform) -> Result<CrossPeriodogram, SimgapError> {
         let binned = Binned::of(&[x, z])?;
         let mut products = binned.products.into_iter();
         let (xx, xz, zz) = (products.next(), products.next(), products.next());
@@ -118,6 +123,40 @@ impl CrossPeriodogram {
     }
 }
 
+/// The Fourier transform of one detrended, tapered series (module docs): its direct transform at
+/// the lowest [`SINGLE_ORDINATES`] Fourier frequencies and the transform of it zero-padded to a
+/// power of two of at least twice its length. Computed once per series, so a series tried against
+/// many regressors (or a regressor against many series) is transformed once.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpectralTransform {
+    len: usize,
+    norm: f64,
+    single: Vec<(f64, f64)>,
+    padded: (Vec<f64>, Vec<f64>),
+}
+
+impl SpectralTransform {
+    /// The transform of `x` (at least 4·[`SINGLE_ORDINATES`] samples).
+    pub fn of(x: &[f64]) -> Result<SpectralTransform, SimgapError> {
+        let n = x.len();
+        let need = 4 * SINGLE_ORDINATES;
+        if n < need {
+            return Err(SimgapError::TooShort { samples: n, need });
+        }
+        let residual = detrended(x);
+        let window = taper(n);
+        let norm: f64 = window.iter().map(|w| w * w).sum();
+        let single = (1..=SINGLE_ORDINATES).map(|k| dft_at(&residual, &window, k as f64 / n as f64)).collect();
+        let padded = (2 * n).next_power_of_two();
+        let fft = Fft::new(padded).ok_or_else(|| SimgapError::Numerical(format!("no FFT of length {padded}")))?;
+        let mut re: Vec<f64> = residual.iter().zip(&window).map(|(v, w)| v * w).collect();
+        re.resize(padded, 0.0);
+        let mut im = vec![0.0; padded];
+        fft.forward(&mut re, &mut im);
+        Ok(SpectralTransform { len: n, norm, single, padded: (re, im) })
+    }
+}
+
 /// Binned spectral products of one or two series (module docs): for one series its periodogram;
 /// for two (x, z) the bin means of |X|², Re(X·conj Z) and |Z|².
 struct Binned {
@@ -127,42 +166,26 @@ struct Binned {
 }
 
 impl Binned {
-    fn of(series: &[&[f64]]) -> Result<Binned, SimgapError> {
-        let n = series[0].len();
-        let need = 4 * SINGLE_ORDINATES;
-        if n < need {
-            return Err(SimgapError::TooShort { samples: n, need });
+    fn of(series: &[&SpectralTransform]) -> Result<Binned, SimgapError> {
+        let n = series[0].len;
+        if series.iter().any(|t| t.len != n) {
+            return Err(SimgapError::BadSetting("spectral transforms of different lengths".into()));
         }
-        let residuals: Vec<Vec<f64>> = series.iter().map(|x| detrended(x)).collect();
-        let window = taper(n);
-        let norm: f64 = window.iter().map(|w| w * w).sum();
+        let norm = series[0].norm;
         let pairs: Vec<(usize, usize)> = if series.len() == 1 { vec![(0, 0)] } else { vec![(0, 0), (0, 1), (1, 1)] };
         let product = |a: (f64, f64), b: (f64, f64)| a.0 * b.0 + a.1 * b.1;
         let spacing = TAU / n as f64;
         let (mut omega, mut weight) = (Vec::new(), Vec::new());
         let mut products = vec![Vec::new(); pairs.len()];
-        for k in 1..=SINGLE_ORDINATES {
-            // The DFT at k/n cycles per sample (a rate of one sample per unit time).
-            omega.push(spacing * k as f64);
-            let dft = dft_at(&residuals, &window, k as f64 / n as f64);
+        for k in 0..SINGLE_ORDINATES {
+            omega.push(spacing * (k + 1) as f64);
             for (out, &(a, b)) in products.iter_mut().zip(&pairs) {
-                out.push(product(dft[a], dft[b]) / norm);
+                out.push(product(series[a].single[k], series[b].single[k]) / norm);
             }
             weight.push(1.0);
         }
-        let padded = (2 * n).next_power_of_two();
-        let fft = Fft::new(padded).ok_or_else(|| SimgapError::Numerical(format!("no FFT of length {padded}")))?;
-        let transforms: Vec<(Vec<f64>, Vec<f64>)> = residuals
-            .iter()
-            .map(|r| {
-                let mut re: Vec<f64> = r.iter().zip(&window).map(|(v, w)| v * w).collect();
-                re.resize(padded, 0.0);
-                let mut im = vec![0.0; padded];
-                fft.forward(&mut re, &mut im);
-                (re, im)
-            })
-            .collect();
-        let at = |s: usize, p: usize| (transforms[s].0[p], transforms[s].1[p]);
+        let padded = series[0].padded.0.len();
+        let at = |s: usize, p: usize| (series[s].padded.0[p], series[s].padded.1[p]);
         let step = TAU / padded as f64;
         let mut lo = spacing * (SINGLE_ORDINATES as f64 + 0.5);
         while lo < PI {
@@ -182,24 +205,18 @@ impl Binned {
     }
 }
 
-/// The DFTs (cosine and sine sums) of each windowed series of `series` at `freq` cycles per
-/// sample (the sums of `fit_spectral::dft_power`, whose power is their squared modulus); one
-/// cosine and one sine per sample serve every series.
-fn dft_at(series: &[Vec<f64>], window: &[f64], freq: f64) -> Vec<(f64, f64)> {
+fn dft_at(residual: &[f64], window: &[f64], freq: f64) -> (f64, f64) {
     let step = TAU * freq;
-    let mut sums = vec![(0.0, 0.0); series.len()];
-    for (k, w) in window.iter().enumerate() {
+    let mut sum = (0.0, 0.0);
+    for (k, (r, w)) in residual.iter().zip(window).enumerate() {
         let a = step * k as f64;
-        let (cos, sin) = (a.cos(), a.sin());
-        for (sum, r) in sums.iter_mut().zip(series) {
-            sum.0 += r[k] * w * cos;
-            sum.1 += r[k] * w * sin;
-        }
+        let (sin, cos) = a.sin_cos();
+        sum.0 += r * w * cos;
+        sum.1 += r * w * sin;
     }
-    sums
+    sum
 }
 
-/// The Tukey window over `n` samples ([`TAPER_SHARE`] tapered).
 fn taper(n: usize) -> Vec<f64> {
     let edge = ((TAPER_SHARE * 0.5 * n as f64).round() as usize).max(1);
     (0..n)
@@ -321,18 +338,44 @@ pub fn fit(
     allowed: [bool; COLUMNS],
     start: [f64; COLUMNS],
 ) -> WhittleFit {
-    let mut c: [f64; COLUMNS] = std::array::from_fn(|j| if allowed[j] { start[j] } else { 0.0 });
+    fit_holding(periodogram, cols, allowed, start, None)
+}
+
+/// As [`fit`], with column `held.0` held at the coefficient `held.1` (and not free): a point of
+/// the profile likelihood of that column's term.
+pub fn fit_holding(
+    periodogram: &Periodogram,
+    cols: &[[f64; COLUMNS]],
+    allowed: [bool; COLUMNS],
+    start: [f64; COLUMNS],
+    held: Option<(usize, f64)>,
+) -> WhittleFit {
+    let free: [bool; COLUMNS] = std::array::from_fn(|j| allowed[j] && held.is_none_or(|(h, _)| h != j));
+    let hold = |c: &mut [f64; COLUMNS]| {
+        if let Some((h, v)) = held {
+            c[h] = v;
+        }
+    };
+    let mut c: [f64; COLUMNS] = std::array::from_fn(|j| if free[j] { start[j] } else { 0.0 });
+    hold(&mut c);
     let mut ell = neg_log_likelihood(periodogram, cols, &c);
     if !ell.is_finite() {
         // A start with S ≤ 0 somewhere: white noise at the periodogram's mean level.
         c = [0.0; COLUMNS];
         c[1] = periodogram.mean.iter().sum::<f64>() / periodogram.mean.len() as f64;
+        hold(&mut c);
         ell = neg_log_likelihood(periodogram, cols, &c);
     }
+    // What the free columns fit: the periodogram less the held term.
+    let target: Vec<f64> = match held {
+        Some((h, v)) => periodogram.mean.iter().zip(cols).map(|(m, g)| m - v * g[h]).collect(),
+        None => periodogram.mean.clone(),
+    };
     for _ in 0..MAX_ITERATIONS {
         let s = spectral_density(cols, &c);
         let weights: Vec<f64> = periodogram.weight.iter().zip(&s).map(|(l, s)| l / (s * s)).collect();
-        let Some(proposal) = weighted_nnls(cols, &periodogram.mean, &weights, allowed) else { break };
+        let Some(mut proposal) = weighted_nnls(cols, &target, &weights, free) else { break };
+        hold(&mut proposal);
         let mut step = 1.0;
         let mut improved = false;
         while step > 1e-6 {
@@ -482,5 +525,16 @@ mod tests {
         assert!((f.coefficients[1] / white - 1.0).abs() < 0.03, "{:?} vs {white}", f.coefficients);
         let step = k * k / fs;
         assert!((f.coefficients[3] / step - 1.0).abs() < 0.5, "{:?} vs {step}", f.coefficients);
+        // The profile likelihood: held at its estimate the random walk gives the fit back; held
+        // 4× higher or lower, ℓ rises (the others refitted, the held value kept exactly).
+        let allowed = [true, true, false, true, false];
+        let at = |c3: f64| fit_holding(&p, &cols, allowed, f.coefficients, Some((3, c3)));
+        let same = at(f.coefficients[3]);
+        assert!((same.neg_log_likelihood - f.neg_log_likelihood).abs() < 1e-6 * f.neg_log_likelihood.abs());
+        for factor in [0.25, 4.0] {
+            let held = at(factor * f.coefficients[3]);
+            assert_eq!(held.coefficients[3], factor * f.coefficients[3]);
+            assert!(held.neg_log_likelihood > f.neg_log_likelihood + 1.0, "{factor}: {held:?} vs {f:?}");
+        }
     }
 }
