@@ -39,7 +39,9 @@ use super::SimgapError;
 use super::baseline::NoiseTerms;
 use super::gap::NULL_LEVEL;
 use super::model::{member_seed, simulate};
-use super::whittle::{COLUMNS, Periodogram, coefficients_of, columns, fit, set_gauss_markov_column, terms_of};
+use super::whittle::{
+    COLUMNS, NOISE_COLUMNS, Periodogram, coefficients_of, columns, fit, set_gauss_markov_column, terms_of,
+};
 use crate::model::rng::splitmix64;
 
 /// Null series simulated.
@@ -100,7 +102,7 @@ pub fn gauss_markov_gain(
     let from = start.floor_from_s;
     let initial = coefficients_of(start, dt);
     let mut cols = columns(&p, dt, from, floor_to_s);
-    let plain = fit(&p, &cols, [true, true, true, true, false], initial);
+    let plain = fit(&p, &cols, NOISE_COLUMNS, initial);
     let (lo, hi) = (GRID_MIN_SAMPLES * dt, (x.len() as f64 * dt / GRID_MAX_FRACTION).max(4.0 * dt));
     let mut best = plain.neg_log_likelihood;
     for g in 0..GRID {

@@ -38,7 +38,8 @@ use super::baseline::NoiseTerms;
 use super::nested::{NestedTest, null_statistics};
 use super::nested_regressor::judge_chi_square;
 use super::whittle::{
-    COLUMNS, Periodogram, WhittleFit, coefficients_of, columns, fit, fit_holding, spectral_density, terms_of,
+    COLUMNS, NOISE_COLUMNS, Periodogram, WhittleFit, coefficients_of, columns, fit, fit_holding, spectral_density,
+    terms_of,
 };
 use crate::sim::terms::flicker_poles;
 
@@ -47,8 +48,6 @@ const RAMP_SEED: u64 = 0x5A3B_0D21;
 /// Block means at most: a line is a slow signal, so little is lost by averaging, and the
 /// covariance's Cholesky factor stays cheap for every null member.
 const MAX_BLOCKS: usize = 300;
-/// The noise columns fitted (quantisation, white, flicker, rate random walk; no Gauss–Markov).
-const NOISE_COLUMNS: [bool; COLUMNS] = [true, true, true, true, false];
 /// The rate random walk's column ([`super::whittle::columns`]).
 const WALK_COLUMN: usize = 3;
 /// 2Δℓ of the rate random walk's upper bound: the χ²₁ quantile at 95 % (the upper end of a

@@ -19,7 +19,7 @@
 use super::baseline::NoiseTerms;
 use super::nested::{NESTED_LEVEL, NestedTest};
 use super::whittle::{
-    COLUMNS, CrossPeriodogram, WhittleFit, coefficients_of, columns, fit, spectral_density, terms_of,
+    COLUMNS, CrossPeriodogram, NOISE_COLUMNS, WhittleFit, coefficients_of, columns, fit, spectral_density, terms_of,
 };
 use crate::model::normal::normal_quantile;
 
@@ -27,8 +27,6 @@ use crate::model::normal::normal_quantile;
 const MAX_ALTERNATIONS: usize = 30;
 /// Relative change of ℓ below which the alternation stops.
 const TOLERANCE: f64 = 1e-10;
-/// The noise columns fitted (quantisation, white, flicker, rate random walk; no Gauss–Markov).
-const NOISE_COLUMNS: [bool; COLUMNS] = [true, true, true, true, false];
 
 /// What the likelihood gains by a regressor's term (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,6 +64,12 @@ impl PlainFit {
         let fit = fit(&without, &cols, NOISE_COLUMNS, coefficients_of(start, dt));
         PlainFit { fit, cols }
     }
+
+    /// The noise terms of this fit (the null's maximum-likelihood estimate); `start` gives the
+    /// terms the fit does not estimate.
+    pub fn null_terms(&self, dt: f64, start: &NoiseTerms) -> NoiseTerms {
+        terms_of(&self.fit.coefficients, dt, start)
+    }
 }
 
 /// [`regressor_gain`] from the series' fit without the regressor, `plain` (of the same series).
@@ -87,8 +91,7 @@ pub fn regressor_gain_from(spectra: &CrossPeriodogram, plain: &PlainFit, dt: f64
         }
     }
     let statistic = (2.0 * (plain.fit.neg_log_likelihood - best.neg_log_likelihood)).max(0.0);
-    let null_terms = terms_of(&plain.fit.coefficients, dt, start);
-    RegressorGain { statistic, coefficient, null_terms }
+    RegressorGain { statistic, coefficient, null_terms: plain.null_terms(dt, start) }
 }
 
 /// The decision from the recording's Λ and its null members' (module docs): beyond

@@ -57,17 +57,12 @@ pub fn warmup_gain(
     floor_to_s: f64,
 ) -> Result<(f64, NoiseTerms), SimgapError> {
     let tx = SpectralTransform::of(x)?;
-    let mut best = 0.0f64;
-    let mut plain: Option<PlainFit> = None;
-    let mut null_terms = *start;
-    for z in regressors {
-        let spectra = CrossPeriodogram::of_transforms(&tx, z)?;
-        let fit = plain.get_or_insert_with(|| PlainFit::of(&spectra, dt, start, floor_to_s));
-        let gain = regressor_gain_from(&spectra, fit, dt, start);
-        best = best.max(gain.statistic);
-        null_terms = gain.null_terms;
-    }
-    Ok((best, null_terms))
+    let spectra = regressors.iter().map(|z| CrossPeriodogram::of_transforms(&tx, z)).collect::<Result<Vec<_>, _>>()?;
+    let Some(first) = spectra.first() else { return Ok((0.0, *start)) };
+    // The fit without the term depends on the series only: one serves every time constant.
+    let plain = PlainFit::of(first, dt, start, floor_to_s);
+    let best = spectra.iter().map(|s| regressor_gain_from(s, &plain, dt, start).statistic).fold(0.0, f64::max);
+    Ok((best, plain.null_terms(dt, start)))
 }
 
 /// The test on `x` (the whole recording, at `rate_hz`); `baseline` starts the fits and gives the

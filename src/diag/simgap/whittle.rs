@@ -205,6 +205,8 @@ impl Binned {
     }
 }
 
+/// The DFT (cosine and sine sums) of the windowed `residual` at `freq` cycles per sample (the
+/// sums of `fit_spectral::dft_power`, whose power is their squared modulus).
 fn dft_at(residual: &[f64], window: &[f64], freq: f64) -> (f64, f64) {
     let step = TAU * freq;
     let mut sum = (0.0, 0.0);
@@ -217,6 +219,7 @@ fn dft_at(residual: &[f64], window: &[f64], freq: f64) -> (f64, f64) {
     sum
 }
 
+/// The Tukey window over `n` samples ([`TAPER_SHARE`] tapered).
 fn taper(n: usize) -> Vec<f64> {
     let edge = ((TAPER_SHARE * 0.5 * n as f64).round() as usize).max(1);
     (0..n)
@@ -257,6 +260,9 @@ pub fn gauss_markov_spectrum(corr_s: f64, dt: f64, omega: f64) -> f64 {
 
 /// Columns of the model: quantisation, white, flicker, rate random walk, Gauss–Markov.
 pub const COLUMNS: usize = 5;
+/// The noise columns the nested tests fit: quantisation, white, flicker, rate random walk (no
+/// Gauss–Markov column).
+pub const NOISE_COLUMNS: [bool; COLUMNS] = [true, true, true, true, false];
 
 /// The columns gⱼ(ω) at the bins of `periodogram` (module docs): the flicker bank with its floor
 /// from `floor_from_s` to `floor_to_s` per unit B², and a zero Gauss–Markov column
