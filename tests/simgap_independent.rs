@@ -311,7 +311,9 @@ fn an_absorbed_warm_up_and_ramp_are_found_by_their_nested_tests() {
 /// by) reproduces its closed forms: the floor's block-mean covariance equals the samples'
 /// covariance summed over blocks (white, Gauss–Markov bank, rate random walk); a ramp and a
 /// sinusoid on white noise have z² = Σ(e − ē)²/σ² and nA²/(2σ²); a weak Gauss–Markov process has
-/// E[Λ] ≈ Σ(S_gm/S)². And every generated case carries it: a number, or null for quantisation.
+/// E[Λ] ≈ Σ(S_gm/S)². The fitted-levels oracle (the floor's IEEE levels unknown) gives a ramp on
+/// white noise at most the known floor's evidence, a fast sinusoid the same, and more rate random
+/// walk none. And every generated case carries both: numbers, or null for quantisation.
 #[test]
 fn the_oracle_evidence_matches_its_closed_forms() {
     if !numpy_or_skip("the_oracle_evidence_matches_its_closed_forms") {
@@ -326,7 +328,21 @@ fn the_oracle_evidence_matches_its_closed_forms() {
         &["--first-seed", "11", "--per-class", "1", "--durations", "3000,3000", "--classes", "ramp,quantization"],
     );
     assert!(cases[0]["oracle_z"].as_f64().is_some_and(|z| z > 0.0), "{}", cases[0]);
-    assert!(cases[1]["oracle_z"].is_null(), "{}", cases[1]);
+    assert!(cases[0]["oracle_z_fitted"].as_f64().is_some_and(|z| z > 0.0), "{}", cases[0]);
+    assert!(cases[1]["oracle_z"].is_null() && cases[1]["oracle_z_fitted"].is_null(), "{}", cases[1]);
+}
+
+/// The steps' Gaussianity check (tools/simgap/step_gaussianity.py, the evidence the evaluation
+/// gives for many small steps): steps of ten window-difference σ every ten minutes stand out from
+/// phase-randomised surrogates of the recording, a Gaussian rate random walk does not.
+#[test]
+fn the_step_gaussianity_check_sees_steps_and_not_a_random_walk() {
+    if !numpy_or_skip("the_step_gaussianity_check_sees_steps_and_not_a_random_walk") {
+        return;
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/simgap/step_gaussianity.py");
+    let out = Command::new("python3").arg(script).arg("--selfcheck").output().expect("run python3");
+    assert!(out.status.success(), "step gaussianity self-check: {}", String::from_utf8_lossy(&out.stderr));
 }
 
 /// The case's noise floor as a `gyrocomp sim` config (tools/simgap/score.py `floor_sim_toml`,

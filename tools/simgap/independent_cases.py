@@ -5,7 +5,9 @@ Written apart from src/diag/simgap (numpy only, its own parametrisation, its own
 the diagnosis is measured on recordings it was not built around. Every case is one CSV recording
 in the project's format (`t_s,gx_dps,temp_c`, as `gyrocomp sim` writes) plus an entry in
 `manifest.json` saying what was injected: effect class, sub-class, magnitude (and its bin), time
-scale, seed, noise floor, rate and duration.
+scale, seed, noise floor, rate and duration, and how visible it is (oracle.py): `oracle_z` to a test
+that knows the floor exactly, `oracle_z_fitted` to one that knows only the floor's IEEE family and
+fits its levels, as the diagnosis must.
 
 Noise floors (IEEE Std 952 terms, deg/s units; `s` below is the floor's scale: 0.1, 1 or 10):
 
@@ -64,9 +66,12 @@ import json
 import math
 import os
 
-import numpy as np
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before numpy: oracle.py says why
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from oracle import oracle_z
+import numpy as np  # noqa: E402
+
+from oracle import fitted_oracle_z, oracle_z
 
 TUNING_RANGES = (range(1000, 2000), range(2000, 3000))
 REPORT_RANGES = (range(1, 1000), range(3000, 4000))
@@ -267,7 +272,7 @@ def make_case(seed, klass, rates, durations, floors):
     x = floor_noise(rng, floor, n, fs) + rng.uniform(-1.0, 1.0)
     post = []
     floor_model = floor_description(floor)
-    oracle = None
+    oracle = fitted = None
     if klass == "none":
         expected, info = "none", dict(sub="none", m=None, u=None, time_scale_s=None)
     elif klass == "outside":
@@ -275,6 +280,7 @@ def make_case(seed, klass, rates, durations, floors):
         add, p, info = add_effect(rng, kind, t, fs, duration, s, temp)
         x += add
         oracle = oracle_z(kind, add, info, floor_model, fs)
+        fitted = fitted_oracle_z(kind, add, info, floor_model, fs)
         expected = "outside"
     elif klass == "dominant":
         main = str(rng.choice(["warmup", "sinusoid", "ramp"]))
@@ -283,6 +289,7 @@ def make_case(seed, klass, rates, durations, floors):
         add2, _, info2 = add_effect(rng, second, t, fs, duration, s, temp, strength="low")
         x += add + add2
         oracle = oracle_z(main, add, info, floor_model, fs)
+        fitted = fitted_oracle_z(main, add, info, floor_model, fs)
         expected = main
         info = dict(info, sub=f"{main}+small_{second}", second=dict(info2, kind=second))
     else:
@@ -291,6 +298,8 @@ def make_case(seed, klass, rates, durations, floors):
         if p is not None:
             post.append(p)
         oracle = oracle_z(klass, add, info, floor_model, fs)
+        kind = "bias_jumps" if klass == "bias_jumps_mid" else klass
+        fitted = fitted_oracle_z(kind, add, info, floor_model, fs)
         expected = "bias_jumps" if klass == "bias_jumps_mid" else klass
     for p in post:
         x = p(x)
@@ -304,6 +313,7 @@ def make_case(seed, klass, rates, durations, floors):
         time_scale_s=info.pop("time_scale_s", None),
         params={k: v for k, v in info.items() if k != "u"},
         oracle_z=oracle,
+        oracle_z_fitted=fitted,
         floor=floor,
         floor_scale=s,
         rate_hz=fs,

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Scores `gyrocomp simgap` on the cases of independent_cases.py (issue 16): runs the diagnosis on
 every case of a manifest and prints the confusion matrix per effect class, per magnitude bin and
-per sub-class (and, when the manifest has it, per oracle-evidence bin: oracle.py).
+per sub-class (and, when the manifest has them, per bin of the oracles' evidence, oracle.py: the
+known-floor oracle's `oracle_z` and the fitted-levels oracle's `oracle_z_fitted`).
 
 Outcome of a case: the first chosen effect when the verdict is "explained" or "partly explained";
 `none` for "no significant gap"; `unexplained` otherwise. It is right when it equals the case's
@@ -18,6 +19,7 @@ constant bias as the mean of the training part (a turn-on bias no simulator know
 Usage:
     score.py CASE_DIR [--gyrocomp target/release/gyrocomp] [--jobs 1] [--extra "--threads 1"]
              [--results results.json] [--keep DIR] [--given-floor]
+    score.py CASE_DIR --tables-from results.json   (the tables again, against the manifest as it is)
 """
 
 import argparse
@@ -127,13 +129,14 @@ def run_case(gyrocomp, case_dir, case, extra, keep=None, given=None):
     )
 
 
-def oracle_bin(case):
+def oracle_bin(case, key="oracle_z", label="oracle"):
     """The case's oracle evidence (oracle.py) as a bin: below 5 a test that knows the floor and the
-    effect exactly has less than a 5-sigma view of it."""
-    z = case.get("oracle_z")
+    effect exactly has less than a 5-sigma view of it. With key "oracle_z_fitted", the evidence of
+    one that knows the effect and only the floor's family (its levels fitted, as the diagnosis's)."""
+    z = case.get(key)
     if z is None:
-        return "oracle n/a"
-    return "oracle z < 5" if z < 5 else ("oracle z 5-10" if z < 10 else "oracle z >= 10")
+        return f"{label} n/a"
+    return f"{label} z < 5" if z < 5 else (f"{label} z 5-10" if z < 10 else f"{label} z >= 10")
 
 
 def table(title, rows, key):
@@ -162,6 +165,9 @@ def main():
     ap.add_argument("--per-class", type=int, help="run only the first N cases of each class")
     ap.add_argument("--given-floor", action="store_true",
                     help="give the diagnosis each case's noise floor as its simulator (module docs)")
+    ap.add_argument("--tables-from", metavar="RESULTS",
+                    help="run nothing: print the tables of an earlier --results file against this "
+                         "manifest's cases (e.g. after the manifest gained a field)")
     a = ap.parse_args()
     with open(os.path.join(a.case_dir, "manifest.json")) as f:
         manifest = json.load(f)
@@ -177,6 +183,11 @@ def main():
             if seen[c["klass"]] <= a.per_class:
                 kept.append(c)
         cases = kept
+    if a.tables_from:
+        rows = results_rows(cases, a.tables_from)
+        print(f"{len(cases)} cases from {a.case_dir} ({manifest['seed_range']} seeds), results of {a.tables_from}")
+        print_tables(rows)
+        return 0
     extra = shlex.split(a.extra)
     if a.keep:
         os.makedirs(a.keep, exist_ok=True)
@@ -192,27 +203,48 @@ def main():
             mark = "ok " if r.get("correct") else "BAD"
             print(f"{mark} seed {c['seed']:>4} {c['klass']:<13} {c['sub']:<28} {c['floor']:<12} "
                   f"{c['rate_hz']:>5.0f} Hz {c['duration_s']:>6.0f} s bin {str(c['magnitude_bin']):<5} "
-                  f"z {'-' if c.get('oracle_z') is None else format(c['oracle_z'], '.1f'):>5} -> "
+                  f"z {'-' if c.get('oracle_z') is None else format(c['oracle_z'], '.1f'):>5} "
+                  f"fitted {'-' if c.get('oracle_z_fitted') is None else format(c['oracle_z_fitted'], '.1f'):>5} -> "
                   f"{r.get('outcome', 'ERROR')} ({r.get('verdict', r.get('error', ''))}; tried {r.get('tried')}) "
                   f"{r['seconds']:.1f} s", flush=True)
     rows = list(zip(cases, results))
     print(f"\n{len(cases)} cases from {a.case_dir} ({manifest['seed_range']} seeds), "
           f"{time.time() - start:.0f} s; extra arguments: {a.extra or '(none)'}"
           f"{'; baseline: the given floor (--given-floor)' if a.given_floor else ''}")
-    table("By effect class (rows: injected; columns: what was named first)", rows, lambda c: c["klass"])
-    table("By effect class and magnitude bin", rows, lambda c: f"{c['klass']} {c['magnitude_bin'] or '-'}")
-    table("By sub-class", rows, lambda c: c["sub"])
-    table("By noise floor", rows, lambda c: c["floor"])
-    if any("oracle_z" in c for c in cases):
-        table("By effect class and oracle evidence (tools/simgap/oracle.py)", rows,
-              lambda c: f"{c['klass']} {oracle_bin(c)}")
-    right = sum(1 for r in results if r.get("correct"))
-    print(f"\nright: {right}/{len(results)}")
+    print_tables(rows)
     if a.results:
         with open(a.results, "w") as f:
             json.dump(dict(manifest_dir=a.case_dir, seed_range=manifest["seed_range"],
                            cases=[dict(c, result=r) for c, r in rows]), f, indent=1)
     return 0
+
+
+def results_rows(cases, path):
+    """The manifest's cases paired with their results from an earlier --results file, by seed;
+    a case the file lacks is an error (the file is of another manifest)."""
+    with open(path) as f:
+        earlier = {c["seed"]: c["result"] for c in json.load(f)["cases"]}
+    missing = [c["seed"] for c in cases if c["seed"] not in earlier]
+    if missing:
+        raise SystemExit(f"{path}: no result for seeds {missing[:10]} of this manifest")
+    return [(c, earlier[c["seed"]]) for c in cases]
+
+
+def print_tables(rows):
+    """The confusion tables of (case, result) rows and the count of right outcomes."""
+    table("By effect class (rows: injected; columns: what was named first)", rows, lambda c: c["klass"])
+    table("By effect class and magnitude bin", rows, lambda c: f"{c['klass']} {c['magnitude_bin'] or '-'}")
+    table("By sub-class", rows, lambda c: c["sub"])
+    table("By noise floor", rows, lambda c: c["floor"])
+    cases = [c for c, _ in rows]
+    if any("oracle_z" in c for c in cases):
+        table("By effect class and oracle evidence (tools/simgap/oracle.py)", rows,
+              lambda c: f"{c['klass']} {oracle_bin(c)}")
+    if any("oracle_z_fitted" in c for c in cases):
+        table("By effect class and fitted-levels oracle evidence (tools/simgap/oracle.py)", rows,
+              lambda c: f"{c['klass']} {oracle_bin(c, 'oracle_z_fitted', 'fitted')}")
+    right = sum(1 for _, r in rows if r.get("correct"))
+    print(f"\nright: {right}/{len(rows)}")
 
 
 if __name__ == "__main__":
