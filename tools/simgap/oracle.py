@@ -41,9 +41,9 @@ block means with covariances C_t (truth) and C (model) and mean difference d
   2 KL = tr(C^-1 C_t) - n + ln det C - ln det C_t + d' P d,  P = C^-1 - C^-1 1 1' C^-1 / 1'C^-1 1
 (the constant bias unknown), and with the Whittle form on the first differences for a fast or a
 stochastic one, 2 KL = 2 sum_k ((S_t + P_k)/S - 1 - ln(S_t/S)). The floor's own Gauss-Markov bank
-is outside the family; its misfit is in both terms and largely cancels. With the floor inside the family
-this z is at most the known-floor oracle's (the null's minimum is at most its value at the true
-levels); an effect that is itself an IEEE term (more rate random walk) has none. A miss at a low
+is outside the family; its misfit is in both terms and largely cancels. With the floor inside the
+family this z is at most the known-floor oracle's (the null's minimum is at most its value at the
+true levels); an effect that is itself an IEEE term (more rate random walk) has none. A miss at a low
 fitted z is one no diagnosis that fits the floor's levels can be expected to avoid; the steps' z
 here still knows their times, so for many small steps it remains an upper bound (their
 second-order statistics are a rate random walk's; step_gaussianity.py measures what is left).
