@@ -129,13 +129,35 @@ pub fn gauss_markov_test(
     seed: u64,
 ) -> Result<NestedTest, SimgapError> {
     let dt = 1.0 / rate_hz;
-    let (statistic, null_terms) = gauss_markov_gain(x, dt, baseline, total_s)?;
-    tracing::debug!("nested null terms: {null_terms:?}");
-    let null = null_statistics(&null_terms, rate_hz, x.len(), total_s, seed ^ NESTED_SEED, |member| {
-        Ok(gauss_markov_gain(member, dt, &null_terms, total_s)?.0)
-    })?;
-    tracing::debug!("nested null: {:?}", null.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>());
+    let gain = |series: &[f64], start: &NoiseTerms| gauss_markov_gain(series, dt, start, total_s);
+    let (statistic, null) = bootstrap("gauss_markov", x, rate_hz, baseline, total_s, seed ^ NESTED_SEED, gain)?;
     Ok(judge_gain(statistic, &null))
+}
+
+/// The recording's statistic and its parametric-bootstrap null, the shape every nested test
+/// shares (each then judges the pair its own way): `gain` of a series with its fits started from
+/// some terms gives its statistic and the terms of its fit without the effect (the null's
+/// maximum-likelihood estimate). The recording `x` (at `rate_hz`) is fitted from `baseline`;
+/// [`NULL_MEMBERS`] series of its length simulated from its null terms (flicker floor to
+/// `total_s`; member seeds from `seed`, which each test mixes with its own constant) are fitted
+/// from those terms. `name` labels the debug log.
+pub fn bootstrap(
+    name: &str,
+    x: &[f64],
+    rate_hz: f64,
+    baseline: &NoiseTerms,
+    total_s: f64,
+    seed: u64,
+    gain: impl Fn(&[f64], &NoiseTerms) -> Result<(f64, NoiseTerms), SimgapError>,
+) -> Result<(f64, Vec<f64>), SimgapError> {
+    let (statistic, null_terms) = gain(x, baseline)?;
+    let null =
+        null_statistics(&null_terms, rate_hz, x.len(), total_s, seed, |member| Ok(gain(member, &null_terms)?.0))?;
+    tracing::debug!(
+        "{name} nested test: statistic {statistic:.3}, null terms {null_terms:?}, null {:?}",
+        null.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>()
+    );
+    Ok((statistic, null))
 }
 
 /// The statistic of each of [`NULL_MEMBERS`] series of `len` samples simulated from `null_terms`

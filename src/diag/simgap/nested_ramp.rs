@@ -35,7 +35,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
-use super::nested::{NestedTest, null_statistics};
+use super::nested::{NestedTest, bootstrap};
 use super::nested_regressor::judge_chi_square;
 use super::whittle::{
     COLUMNS, NOISE_COLUMNS, Periodogram, WhittleFit, coefficients_of, columns, fit, fit_holding, spectral_density,
@@ -178,15 +178,11 @@ pub fn ramp_test(
     seed: u64,
 ) -> Result<NestedTest, SimgapError> {
     let dt = 1.0 / rate_hz;
-    let (z, terms) = ramp_score(x, dt, baseline, total_s)?;
-    let null = null_statistics(&terms, rate_hz, x.len(), total_s, seed ^ RAMP_SEED, |member| {
-        Ok(ramp_score(member, dt, &terms, total_s)?.0.powi(2))
-    })?;
-    tracing::debug!(
-        "ramp nested: z {z:.2}, terms {terms:?}, null z² {:?}",
-        null.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>()
-    );
-    Ok(judge_chi_square(z * z, &null))
+    let gain = |series: &[f64], start: &NoiseTerms| {
+        ramp_score(series, dt, start, total_s).map(|(z, terms)| (z.powi(2), terms))
+    };
+    let (statistic, null) = bootstrap("ramp", x, rate_hz, baseline, total_s, seed ^ RAMP_SEED, gain)?;
+    Ok(judge_chi_square(statistic, &null))
 }
 
 #[cfg(test)]

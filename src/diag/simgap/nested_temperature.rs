@@ -25,7 +25,7 @@
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
-use super::nested::{NestedTest, null_statistics};
+use super::nested::{NestedTest, bootstrap};
 use super::nested_regressor::{RegressorGain, judge_chi_square, regressor_gain};
 use super::whittle::CrossPeriodogram;
 
@@ -57,13 +57,11 @@ pub fn temperature_test(
     seed: u64,
 ) -> Result<NestedTest, SimgapError> {
     let dt = 1.0 / rate_hz;
-    let gain = temperature_gain(x, temp_c, dt, baseline, total_s)?;
-    tracing::debug!("temperature nested test: c {:.3e} deg/s/C, null terms {:?}", gain.coefficient, gain.null_terms);
-    let null = null_statistics(&gain.null_terms, rate_hz, x.len(), total_s, seed ^ TEMPERATURE_SEED, |member| {
-        Ok(temperature_gain(member, temp_c, dt, &gain.null_terms, total_s)?.statistic)
-    })?;
-    tracing::debug!("temperature nested null: {:?}", null.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>());
-    Ok(judge_chi_square(gain.statistic, &null))
+    let gain = |series: &[f64], start: &NoiseTerms| {
+        temperature_gain(series, temp_c, dt, start, total_s).map(|g| (g.statistic, g.null_terms))
+    };
+    let (statistic, null) = bootstrap("temperature", x, rate_hz, baseline, total_s, seed ^ TEMPERATURE_SEED, gain)?;
+    Ok(judge_chi_square(statistic, &null))
 }
 
 #[cfg(test)]

@@ -25,7 +25,7 @@
 use super::SimgapError;
 use super::baseline::NoiseTerms;
 use super::fit_time::WARMUP_RANGE;
-use super::nested::{NestedTest, judge_gain, null_statistics};
+use super::nested::{NestedTest, bootstrap, judge_gain};
 use super::nested_regressor::{PlainFit, regressor_gain_from};
 use super::whittle::{CrossPeriodogram, SpectralTransform};
 
@@ -77,11 +77,8 @@ pub fn warmup_test(
 ) -> Result<NestedTest, SimgapError> {
     let dt = 1.0 / rate_hz;
     let z = regressors(x.len(), rate_hz)?;
-    let (statistic, null_terms) = warmup_gain(x, &z, dt, baseline, total_s)?;
-    let null = null_statistics(&null_terms, rate_hz, x.len(), total_s, seed ^ WARMUP_SEED, |member| {
-        Ok(warmup_gain(member, &z, dt, &null_terms, total_s)?.0)
-    })?;
-    tracing::debug!("warmup nested null: {:?}", null.iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>());
+    let gain = |series: &[f64], start: &NoiseTerms| warmup_gain(series, &z, dt, start, total_s);
+    let (statistic, null) = bootstrap("warmup", x, rate_hz, baseline, total_s, seed ^ WARMUP_SEED, gain)?;
     Ok(judge_gain(statistic, &null))
 }
 
