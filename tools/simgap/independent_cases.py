@@ -298,9 +298,8 @@ def make_case(seed, klass, rates, durations, floors):
         if p is not None:
             post.append(p)
         oracle = oracle_z(klass, add, info, floor_model, fs)
-        kind = "bias_jumps" if klass == "bias_jumps_mid" else klass
-        fitted = fitted_oracle_z(kind, add, info, floor_model, fs)
         expected = "bias_jumps" if klass == "bias_jumps_mid" else klass
+        fitted = fitted_oracle_z(expected, add, info, floor_model, fs)
     for p in post:
         x = p(x)
     return t, x, temp, dict(

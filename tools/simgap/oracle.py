@@ -257,10 +257,7 @@ def fitted_block_z(effect, floor, fs):
         a, b = block_kl_terms(cov(theta), truth, e)
         return a + b
 
-    start = np.log([scale / np.trace(u) * blocks / 3.0 for u in units])
-    at_alt, v_alt = minimise(alternative, start)
-    v_null = min(minimise(null, at_alt)[1], minimise(null, start)[1])
-    return math.sqrt(max(v_null - v_alt, 0.0))
+    return fitted_evidence(null, alternative, np.log([scale / np.trace(u) * blocks / 3.0 for u in units]))
 
 
 def family_spectra(fs, omega):
@@ -302,21 +299,23 @@ def fitted_spectral_z(floor, fs, n, added=None, effect=None, extra_unit=None):
     def null(theta):
         return whittle_kl(truth, power, model(theta, units))
 
-    if extra_unit is None:
-        # Deterministic: the alternative fits the effect exactly; its divergence is the family's.
-        def alternative(theta):
-            return whittle_kl(truth, 0.0, model(theta, units))
+    # Deterministic: the alternative fits the effect exactly, its divergence is the family's;
+    # stochastic: the family plus the effect's shape at a free level.
+    cols = units if extra_unit is None else units + [extra_unit(omega)]
 
-        at_alt, v_alt = minimise(alternative, start)
-    else:
-        cols = units + [extra_unit(omega)]
+    def alternative(theta):
+        return whittle_kl(truth, 0.0, model(theta, cols))
 
-        def alternative(theta):
-            return whittle_kl(truth, 0.0, model(theta, cols))
+    alt_start = np.append(start, [math.log(scale / np.mean(c) / 3.0) for c in cols[len(units) :]])
+    return fitted_evidence(null, alternative, start, alt_start)
 
-        at_alt, v_alt = minimise(alternative, np.append(start, math.log(scale / np.mean(cols[-1]) / 3.0)))
-        at_alt = at_alt[:-1]
-    v_null = min(minimise(null, at_alt)[1], minimise(null, start)[1])
+
+def fitted_evidence(null, alternative, start, alt_start=None):
+    """sqrt(min null - min alternative) (module docs): the alternative minimised first (from
+    alt_start when it has levels beyond the family's, else start), then the null from the
+    alternative's family levels and from start, the lower kept."""
+    at_alt, v_alt = minimise(alternative, start if alt_start is None else alt_start)
+    v_null = min(minimise(null, at_alt[: len(start)])[1], minimise(null, start)[1])
     return math.sqrt(max(v_null - v_alt, 0.0))
 
 
