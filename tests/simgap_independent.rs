@@ -216,6 +216,29 @@ fn a_step_in_the_holdout_part_is_named_a_bias_jump() {
     assert_eq!(named_first(&doc), Some("bias_jumps"), "{}", doc["verdict"]);
 }
 
+/// Steps a few minutes apart that the fitted terms take in (report seed 3203, `bias_jumps_mid`:
+/// steps of ±0.026 deg/s, about every 300 s on the white-noise-and-random-walk floor, a quarter of
+/// the per-sample noise each): the baseline shows no significant gap on either part, and until
+/// the twenty-eighth session nothing was named. The step process' nested test (a piecewise-constant
+/// level against a random walk, src/diag/simgap/nested_jumps.rs) finds it, `bias_jumps` is named
+/// first, and its fitted step size is within a quarter of the injected one.
+#[test]
+fn steps_minutes_apart_that_the_fitted_terms_absorb_are_found_by_their_nested_test() {
+    if !numpy_or_skip("steps_minutes_apart_that_the_fitted_terms_absorb_are_found_by_their_nested_test") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (case, doc) = one_case(dir.path(), "3203", "bias_jumps_mid");
+    assert_eq!(case["floor"], "nominal_flat");
+    assert!(!baseline_shows_a_gap(&doc), "the baseline alone shows a gap: {}", doc["before"]);
+    let jumps = effect(&doc, "bias_jumps");
+    assert_eq!(jumps["nested"]["passed"], true, "{jumps}");
+    assert_eq!(named_first(&doc), Some("bias_jumps"), "{}: {}", doc["verdict"], doc["chosen"]);
+    let injected = case["magnitude"].as_f64().unwrap() * case["floor_scale"].as_f64().unwrap();
+    let fitted = jumps["params"]["size_dps"].as_f64().unwrap();
+    assert!((fitted / injected - 1.0).abs() < 0.25, "fitted step {fitted} against injected {injected}");
+}
+
 /// The Gauss–Markov case of report `seed`, diagnosed into `dir`: the baseline alone shows no
 /// significant gap on either part, and `gauss_markov` is named first. Its manifest entry and JSON
 /// document.

@@ -25,12 +25,13 @@ use super::baseline::{NoiseTerms, fit_noise_terms};
 use super::builder::ModelBuilder;
 use super::effects::{TrainingData, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
-use super::fit_events::detect_grid;
+use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
 use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, ramp_before_unbounded_warmup, removes_most};
 use super::model::SimModel;
 use super::naming::naming_order;
 use super::nested::{NestedTest, gauss_markov_test};
+use super::nested_jumps::jumps_test;
 use super::nested_ramp::ramp_test;
 use super::nested_temperature::temperature_test;
 use super::nested_warmup::warmup_test;
@@ -114,7 +115,27 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     let mut ensembles_run = 1;
     tracing::info!("baseline: gap {:.3} (training), {:.3} (hold-out)", before.train.score.gap, before.hold.score.gap);
 
-    let fitted: Vec<(EffectKind, Fitted)> = EffectKind::ALL.iter().map(|&k| (k, fit_effect(k, &data))).collect();
+    // The step process' test runs before the fits: where it finds steps the window detector
+    // misses, its segmentation's change points are the steps the effect is fitted from.
+    let jumps = match &baseline_terms {
+        Some(terms) => Some(jumps_test(recording.rate, rate_hz, terms, builder.total_s, settings.seed)?),
+        None => None,
+    };
+    let fitted: Vec<(EffectKind, Fitted)> = EffectKind::ALL
+        .iter()
+        .map(|&k| {
+            let fit = fit_effect(k, &data);
+            let segmented = match (&fit, &jumps) {
+                (Fitted::NotApplicable(_), Some((test, Some(evidence))))
+                    if k == EffectKind::BiasJumps && test.passed =>
+                {
+                    Some(fit_jumps_at(data.x, data.holdout, rate_hz, &evidence.changes))
+                }
+                _ => None,
+            };
+            (k, segmented.unwrap_or(fit))
+        })
+        .collect();
     let mut effects = Vec::new();
     for (kind, fit) in &fitted {
         let result = match fit {
@@ -141,9 +162,10 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 let detector = own_null.as_ref().and_then(|n| {
                     detector_test(*kind, setup.layout_train.info(), setup.layout_hold.info(), n, &evaluation)
                 });
-                let nested = match &baseline_terms {
-                    Some(terms) => nested_test(*kind, recording, terms, builder.total_s, settings.seed)?,
-                    None => None,
+                let nested = match (&baseline_terms, &jumps) {
+                    (_, Some((test, _))) if *kind == EffectKind::BiasJumps => Some(log_nested(*kind, test.clone())),
+                    (Some(terms), _) => nested_test(*kind, recording, terms, builder.total_s, settings.seed)?,
+                    (None, _) => None,
                 };
                 if let Some(n) = &own_null {
                     tracing::info!(
@@ -287,6 +309,11 @@ fn nested_test(
         (EffectKind::Temperature, Some(temp)) => temperature_test(x, temp, rate_hz, terms, total_s, seed)?,
         _ => return Ok(None),
     };
+    Ok(Some(log_nested(kind, test)))
+}
+
+/// `test`, logged as `kind`'s nested test.
+fn log_nested(kind: EffectKind, test: NestedTest) -> NestedTest {
     tracing::info!(
         "{} nested test: S {:.4}, null zero share {:.2}, mean {:.4}, threshold {:.4}, passed {}",
         kind.name(),
@@ -296,5 +323,5 @@ fn nested_test(
         test.threshold,
         test.passed
     );
-    Ok(Some(test))
+    test
 }

@@ -191,10 +191,35 @@ pub fn fit_jumps(train: &[f64], holdout: &[f64], rate_hz: f64) -> Fitted {
             many_steps(hours)
         ));
     }
+    found_jumps(&jumps, &held, train.len(), hours)
+}
+
+/// Bias jumps at the change points `changes` (sample indices of the whole recording, ascending)
+/// of a step process found by the nested test's segmentation ([`super::nested_jumps`]), for a
+/// recording whose training part is `train` and hold-out `holdout`: each step's size is the
+/// difference of the means after and before it (as [`fit_jumps`]' sizes, over a window at most);
+/// the training part's steps make its deterministic part, all count towards rate and size.
+/// `NotApplicable` when there is none.
+pub fn fit_jumps_at(train: &[f64], holdout: &[f64], rate_hz: f64, changes: &[usize]) -> Fitted {
+    let whole = [train, holdout].concat();
+    let at: Vec<usize> = changes.iter().copied().filter(|&c| c > 0 && c < whole.len()).collect();
+    if at.is_empty() {
+        return Fitted::NotApplicable("the segmentation has no change point".into());
+    }
+    let reach = (JUMP_WINDOW_S * rate_hz).round().max(1.0) as usize;
+    let steps: Vec<Step> =
+        at.iter().zip(step_sizes(&whole, &at, reach)).map(|(&at, size)| Step { at, size, sigmas: 0.0 }).collect();
+    let (jumps, held): (Vec<Step>, Vec<Step>) = steps.into_iter().partition(|s| s.at < train.len());
+    found_jumps(&jumps, &held, train.len(), whole.len() as f64 / rate_hz / 3600.0)
+}
+
+/// The bias-jump effect of the training part's steps `jumps` and the hold-out's `held` (not both
+/// empty) over a recording of `hours` whose training part has `train_len` samples.
+fn found_jumps(jumps: &[Step], held: &[Step], train_len: usize, hours: f64) -> Fitted {
     let all = jumps.len() + held.len();
-    let size = (jumps.iter().chain(&held).map(|j| j.size * j.size).sum::<f64>() / all as f64).sqrt();
+    let size = (jumps.iter().chain(held).map(|j| j.size * j.size).sum::<f64>() / all as f64).sqrt();
     let training_part = (!jumps.is_empty()).then(|| {
-        let mut part = vec![0.0; train.len()];
+        let mut part = vec![0.0; train_len];
         let mut level = 0.0;
         let mut next = jumps.iter().peekable();
         for (k, p) in part.iter_mut().enumerate() {

@@ -20,7 +20,8 @@
 //!   [`nested_temperature`] that of a temperature response and [`nested_warmup`] that of a
 //!   warm-up, on the Whittle likelihood of [`whittle`] (a regressor's gain in
 //!   [`nested_regressor`]); [`nested_ramp`] that of a ramp, by generalised least squares on block
-//!   means.
+//!   means; [`nested_jumps`] that of a step process, a piecewise-constant level against a random
+//!   walk ([`segmentation`]).
 //! - [`diagnose`](mod@diagnose): the whole diagnosis of one recording; [`inputs`] (settings,
 //!   baseline, recording), [`outcome`] (verdict, effect results, diagnosis), [`builder`] (the
 //!   models it simulates).
@@ -43,6 +44,7 @@ pub mod inputs;
 pub mod model;
 pub mod naming;
 pub mod nested;
+pub mod nested_jumps;
 pub mod nested_ramp;
 pub mod nested_regressor;
 pub mod nested_temperature;
@@ -52,6 +54,7 @@ pub mod params;
 pub mod refit;
 pub mod robust;
 pub mod robust_allan;
+pub mod segmentation;
 pub mod selftest;
 pub mod stats;
 pub mod uncertainty;

@@ -40,7 +40,7 @@ use super::baseline::NoiseTerms;
 use super::gap::NULL_LEVEL;
 use super::model::{member_seed, simulate};
 use super::whittle::{
-    COLUMNS, NOISE_COLUMNS, Periodogram, coefficients_of, columns, fit, set_gauss_markov_column, terms_of,
+    COLUMNS, NOISE_COLUMNS, Periodogram, WhittleFit, coefficients_of, columns, fit, set_gauss_markov_column, terms_of,
 };
 use crate::model::rng::splitmix64;
 
@@ -88,6 +88,60 @@ const GRID_MIN_SAMPLES: f64 = 30.0;
 /// … to the series' duration divided by this.
 const GRID_MAX_FRACTION: f64 = 10.0;
 
+/// The Whittle fits of a series without and with a Gauss–Markov column ([`fit_with_process`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProcessFits {
+    /// The noise terms alone (quantisation, white, flicker, rate random walk).
+    pub plain: WhittleFit,
+    /// The best fit with the column: its fit and the process' correlation time, s.
+    pub with: (WhittleFit, f64),
+}
+
+impl ProcessFits {
+    /// Λ = 2(ℓ₀ − min_T ℓ₁(T)), 0 below the fit's rounding (module docs).
+    pub fn gain(&self) -> f64 {
+        let gain =
+            2.0 * (self.plain.neg_log_likelihood - self.with.0.neg_log_likelihood.min(self.plain.neg_log_likelihood));
+        if gain > ZERO_GAIN { gain } else { 0.0 }
+    }
+
+    /// The noise terms of the fit without the process (the null's maximum-likelihood estimate);
+    /// `like` gives what the fit does not estimate (the flicker floor's start).
+    pub fn plain_terms(&self, dt: f64, like: &NoiseTerms) -> NoiseTerms {
+        terms_of(&self.plain.coefficients, dt, like)
+    }
+
+    /// The noise terms of the best fit with the process: the Gaussian model of the series'
+    /// spectrum closest to it that the fits reach.
+    pub fn with_terms(&self, dt: f64, like: &NoiseTerms) -> NoiseTerms {
+        let (fit, corr) = self.with;
+        let sigma = fit.coefficients[COLUMNS - 1].max(0.0).sqrt();
+        NoiseTerms { gauss_markov: (sigma > 0.0).then_some((sigma, corr)), ..terms_of(&fit.coefficients, dt, like) }
+    }
+}
+
+/// The Whittle fits of `x` sampled every `dt` s without and with a Gauss–Markov column, its
+/// correlation time the best of a log grid (module docs): the terms of `start` (the
+/// flicker floor's start among them) are where the fits begin; the flicker floor reaches
+/// `floor_to_s`.
+pub fn fit_with_process(x: &[f64], dt: f64, start: &NoiseTerms, floor_to_s: f64) -> Result<ProcessFits, SimgapError> {
+    let p = Periodogram::of(x)?;
+    let initial = coefficients_of(start, dt);
+    let mut cols = columns(&p, dt, start.floor_from_s, floor_to_s);
+    let plain = fit(&p, &cols, NOISE_COLUMNS, initial);
+    let (lo, hi) = (GRID_MIN_SAMPLES * dt, (x.len() as f64 * dt / GRID_MAX_FRACTION).max(4.0 * dt));
+    let mut with = (plain, lo);
+    for g in 0..GRID {
+        let corr = lo * (hi / lo).powf(g as f64 / (GRID - 1) as f64);
+        set_gauss_markov_column(&mut cols, &p, dt, corr);
+        let candidate = fit(&p, &cols, [true; COLUMNS], plain.coefficients);
+        if candidate.neg_log_likelihood < with.0.neg_log_likelihood {
+            with = (candidate, corr);
+        }
+    }
+    Ok(ProcessFits { plain, with })
+}
+
 /// Λ = 2(ℓ₀ − min_T ℓ₁(T)) of `x` sampled every `dt` s (module docs), and the noise terms of the
 /// fit without the process (the null's maximum-likelihood estimate): the terms of `start` (the
 /// flicker floor's start among them) are where the fits begin; the flicker floor reaches
@@ -98,22 +152,8 @@ pub fn gauss_markov_gain(
     start: &NoiseTerms,
     floor_to_s: f64,
 ) -> Result<(f64, NoiseTerms), SimgapError> {
-    let p = Periodogram::of(x)?;
-    let from = start.floor_from_s;
-    let initial = coefficients_of(start, dt);
-    let mut cols = columns(&p, dt, from, floor_to_s);
-    let plain = fit(&p, &cols, NOISE_COLUMNS, initial);
-    let (lo, hi) = (GRID_MIN_SAMPLES * dt, (x.len() as f64 * dt / GRID_MAX_FRACTION).max(4.0 * dt));
-    let mut best = plain.neg_log_likelihood;
-    for g in 0..GRID {
-        let corr = lo * (hi / lo).powf(g as f64 / (GRID - 1) as f64);
-        set_gauss_markov_column(&mut cols, &p, dt, corr);
-        let with = fit(&p, &cols, [true; COLUMNS], plain.coefficients);
-        best = best.min(with.neg_log_likelihood);
-    }
-    let gain = 2.0 * (plain.neg_log_likelihood - best);
-    let null_terms = terms_of(&plain.coefficients, dt, start);
-    Ok((if gain > ZERO_GAIN { gain } else { 0.0 }, null_terms))
+    let fits = fit_with_process(x, dt, start, floor_to_s)?;
+    Ok((fits.gain(), fits.plain_terms(dt, start)))
 }
 
 /// The test on `x` (the whole recording, at `rate_hz`); `baseline` (the Allan-fitted terms of the
