@@ -117,23 +117,21 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
 
     // The step process' test runs before the fits: where it finds steps the window detector
     // misses, its segmentation's change points are the steps the effect is fitted from.
-    let jumps = match &baseline_terms {
-        Some(terms) => Some(jumps_test(recording.rate, rate_hz, terms, builder.total_s, settings.seed)?),
-        None => None,
+    let jumps = baseline_terms
+        .as_ref()
+        .map(|terms| jumps_test(recording.rate, rate_hz, terms, builder.total_s, settings.seed))
+        .transpose()?;
+    let step_changes = match &jumps {
+        Some((test, Some(evidence))) if test.passed => Some(&evidence.changes),
+        _ => None,
     };
     let fitted: Vec<(EffectKind, Fitted)> = EffectKind::ALL
         .iter()
-        .map(|&k| {
-            let fit = fit_effect(k, &data);
-            let segmented = match (&fit, &jumps) {
-                (Fitted::NotApplicable(_), Some((test, Some(evidence))))
-                    if k == EffectKind::BiasJumps && test.passed =>
-                {
-                    Some(fit_jumps_at(data.x, data.holdout, rate_hz, &evidence.changes))
-                }
-                _ => None,
-            };
-            (k, segmented.unwrap_or(fit))
+        .map(|&k| match (k, fit_effect(k, &data), step_changes) {
+            (EffectKind::BiasJumps, Fitted::NotApplicable(_), Some(changes)) => {
+                (k, fit_jumps_at(data.x, data.holdout, rate_hz, changes))
+            }
+            (k, fit, _) => (k, fit),
         })
         .collect();
     let mut effects = Vec::new();

@@ -117,7 +117,7 @@ impl StepScores {
 }
 
 /// The means of `x` over blocks of about one second: samples per block, and the means.
-fn second_means(x: &[f64], rate_hz: f64) -> (usize, Vec<f64>) {
+pub(super) fn second_means(x: &[f64], rate_hz: f64) -> (usize, Vec<f64>) {
     let block = (rate_hz.round() as usize).max(1);
     (block, block_means(x, block))
 }

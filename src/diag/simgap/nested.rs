@@ -100,8 +100,8 @@ pub struct ProcessFits {
 impl ProcessFits {
     /// Λ = 2(ℓ₀ − min_T ℓ₁(T)), 0 below the fit's rounding (module docs).
     pub fn gain(&self) -> f64 {
-        let gain =
-            2.0 * (self.plain.neg_log_likelihood - self.with.0.neg_log_likelihood.min(self.plain.neg_log_likelihood));
+        // `with` starts at the plain fit and only moves to a better one, so Λ ≥ 0.
+        let gain = 2.0 * (self.plain.neg_log_likelihood - self.with.0.neg_log_likelihood);
         if gain > ZERO_GAIN { gain } else { 0.0 }
     }
 

@@ -35,8 +35,9 @@
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
+use super::fit_events::second_means;
 use super::nested::{NESTED_LEVEL, NestedTest, fit_with_process, null_statistics};
-use super::robust::{block_means, mad_sigma};
+use super::robust::mad_sigma;
 use super::segmentation::{local_level_m2ll, segment_means};
 use crate::model::normal::normal_quantile;
 
@@ -78,8 +79,7 @@ pub struct StepEvidence {
 /// invariance tested below); `None` when there
 /// are fewer than [`MIN_MEANS`] 1 s means or they do not vary.
 pub fn step_evidence(x: &[f64], rate_hz: f64) -> Option<StepEvidence> {
-    let block = (rate_hz.round() as usize).max(1);
-    let y = block_means(x, block);
+    let (block, y) = second_means(x, rate_hz);
     let n = y.len();
     if n < MIN_MEANS {
         return None;
@@ -114,15 +114,8 @@ pub fn jumps_test(
     seed: u64,
 ) -> Result<(NestedTest, Option<StepEvidence>), SimgapError> {
     let Some(evidence) = step_evidence(x, rate_hz) else {
-        let none = NestedTest {
-            statistic: 0.0,
-            null_zero_share: 0.0,
-            null_mean: 0.0,
-            threshold: f64::INFINITY,
-            passed: false,
-            outranked: false,
-        };
-        return Ok((none, None));
+        // No statistic: no null either, and nothing passes.
+        return Ok((judge_normal(0.0, &[]), None));
     };
     let dt = 1.0 / rate_hz;
     let null_terms = fit_with_process(x, dt, baseline, total_s)?.with_terms(dt, baseline);

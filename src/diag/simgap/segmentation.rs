@@ -90,24 +90,22 @@ pub fn local_level_m2ll(y: &[f64], r: f64, q: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::rng::SplitMix64;
+    use crate::sim::rng::{Stream, StreamId};
 
-    /// A standard normal deviate (Box–Muller).
-    fn gaussian(rng: &mut SplitMix64) -> f64 {
-        let u = 1.0 - rng.uniform();
-        (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * rng.uniform()).cos()
+    /// A seeded stream of standard normal deviates.
+    fn normals(seed: u64) -> Stream {
+        Stream::new(seed, 0, StreamId::White)
     }
 
     /// The segmentation is the exhaustive optimum: on short series every set of changes is tried
     /// by brute force (2^(n−1) sets) and none costs less than what PELT returns.
     #[test]
     fn pelt_finds_the_exhaustive_optimum() {
-        let mut rng = SplitMix64::new(5);
+        let mut rng = normals(5);
         for trial in 0..20 {
             let n = 9;
-            let y: Vec<f64> = (0..n)
-                .map(|k| if k >= 4 { 2.0 } else { 0.0 } + gaussian(&mut rng) * (0.3 + trial as f64 * 0.1))
-                .collect();
+            let y: Vec<f64> =
+                (0..n).map(|k| if k >= 4 { 2.0 } else { 0.0 } + rng.normal() * (0.3 + trial as f64 * 0.1)).collect();
             let beta = 1.0 + trial as f64 * 0.2;
             let got = segment_means(&y, beta);
             let mut exhaustive = f64::INFINITY;
@@ -134,7 +132,7 @@ mod tests {
     /// Two clear steps are found where they are, and a constant series has none.
     #[test]
     fn finds_clear_steps_and_no_others() {
-        let mut rng = SplitMix64::new(11);
+        let mut rng = normals(11);
         let y: Vec<f64> = (0..300)
             .map(|k| {
                 let level = if k >= 200 {
@@ -144,12 +142,12 @@ mod tests {
                 } else {
                     0.0
                 };
-                level + 0.1 * gaussian(&mut rng)
+                level + 0.1 * rng.normal()
             })
             .collect();
         let beta = 2.0 * (300f64).ln() * 0.01;
         assert_eq!(segment_means(&y, beta).changes, vec![100, 200]);
-        let flat: Vec<f64> = (0..300).map(|_| 0.1 * gaussian(&mut rng)).collect();
+        let flat: Vec<f64> = (0..300).map(|_| 0.1 * rng.normal()).collect();
         assert!(segment_means(&flat, beta).changes.is_empty());
     }
 
@@ -158,13 +156,13 @@ mod tests {
     /// log grid lies within a factor 1.5 of it.
     #[test]
     fn the_local_level_likelihood_peaks_at_the_true_walk() {
-        let mut rng = SplitMix64::new(3);
+        let mut rng = normals(3);
         let (r, q) = (1.0f64, 0.01f64);
         let mut level = 0.0;
         let y: Vec<f64> = (0..20_000)
             .map(|_| {
-                level += q.sqrt() * gaussian(&mut rng);
-                level + r.sqrt() * gaussian(&mut rng)
+                level += q.sqrt() * rng.normal();
+                level + r.sqrt() * rng.normal()
             })
             .collect();
         let grid: Vec<f64> = (0..41).map(|i| 1e-4 * 10f64.powf(i as f64 / 10.0)).collect();
