@@ -239,6 +239,27 @@ fn steps_minutes_apart_that_the_fitted_terms_absorb_are_found_by_their_nested_te
     assert!((fitted / injected - 1.0).abs() < 0.25, "fitted step {fitted} against injected {injected}");
 }
 
+/// Seven steps of normal sizes (RMS 0.0037 deg/s, 0.4 of the per-sample noise) over 3,041 s on
+/// the quiet floor (report seed 682, `few_large_steps`): the window detector (60 s means against
+/// their robust σ) holds one of them, and with one step fitted the bias jumps ranked below a
+/// temperature response, which was named first. The step process' nested test passes, and its
+/// segmentation's change points (more than the window detector's) are the steps fitted now: at
+/// least five of the seven, and `bias_jumps` named first.
+#[test]
+fn the_segmentation_fits_the_steps_where_it_finds_more_than_the_window_detector() {
+    if !numpy_or_skip("the_segmentation_fits_the_steps_where_it_finds_more_than_the_window_detector") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (case, doc) = one_case(dir.path(), "682", "bias_jumps");
+    assert_eq!((case["sub"].as_str(), case["params"]["jumps"].as_u64()), (Some("few_large_steps"), Some(7)));
+    let jumps = effect(&doc, "bias_jumps");
+    assert_eq!(jumps["nested"]["passed"], true, "{jumps}");
+    let detected = jumps["params"]["detected"].as_f64().unwrap();
+    assert!((5.0..=9.0).contains(&detected), "{jumps}");
+    assert_eq!(named_first(&doc), Some("bias_jumps"), "{}: {}", doc["verdict"], doc["chosen"]);
+}
+
 /// The Gauss–Markov case of report `seed`, diagnosed into `dir`: the baseline alone shows no
 /// significant gap on either part, and `gauss_markov` is named first. Its manifest entry and JSON
 /// document.

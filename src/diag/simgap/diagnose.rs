@@ -115,33 +115,48 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     let mut ensembles_run = 1;
     tracing::info!("baseline: gap {:.3} (training), {:.3} (hold-out)", before.train.score.gap, before.hold.score.gap);
 
-    // The step process' test runs before the fits: where it finds steps the window detector
-    // misses, its segmentation's change points are the steps the effect is fitted from.
+    // The step process' test runs before the fits. Where it passes and its segmentation has more
+    // change points than the window detector found steps (none, or some of a few sharp ones: a
+    // step within a window of another is not resolved), the effect is also fitted from those
+    // change points, and the fit that evaluates better is kept: from too few steps the jumps cover
+    // less of the bias' motion and rank below an effect that covers it smoothly (a temperature
+    // response, a warm-up); from a segmentation's spurious extra changes they can cover less of
+    // a single step than the window detector's fit did. Its question (steps or a random walk?)
+    // is the recording's, whatever the baseline: with a given simulator it runs on the
+    // recording's own terms.
     let jumps = baseline_terms
         .as_ref()
+        .or(recording_terms.as_ref())
         .map(|terms| jumps_test(recording.rate, rate_hz, terms, builder.total_s, settings.seed))
         .transpose()?;
     let step_changes = match &jumps {
         Some((test, Some(evidence))) if test.passed => Some(&evidence.changes),
         _ => None,
     };
-    let fitted: Vec<(EffectKind, Fitted)> = EffectKind::ALL
+    let candidates: Vec<(EffectKind, Vec<Fitted>)> = EffectKind::ALL
         .iter()
         .map(|&k| match (k, fit_effect(k, &data), step_changes) {
-            (EffectKind::BiasJumps, Fitted::NotApplicable(_), Some(changes)) => {
-                (k, fit_jumps_at(data.x, data.holdout, rate_hz, changes))
+            (EffectKind::BiasJumps, fit, Some(changes)) if window_steps(&fit) < changes.len() => {
+                (k, vec![fit, fit_jumps_at(data.x, data.holdout, rate_hz, changes)])
             }
-            (k, fit, _) => (k, fit),
+            (k, fit, _) => (k, vec![fit]),
         })
         .collect();
     let mut effects = Vec::new();
-    for (kind, fit) in &fitted {
-        let result = match fit {
-            Fitted::Found(effect) => {
-                let (model, own_null_model) = builder.build_with_own_null(effect)?;
-                let evaluation = evaluate(&setup, &model)?;
+    // The fit kept per effect, for the combinations below.
+    let mut fitted: Vec<(EffectKind, FittedEffect)> = Vec::new();
+    for (kind, fits) in candidates {
+        let kind = &kind;
+        let best = best_fit(fits, |effect| {
+            let (model, own_null_model) = builder.build_with_own_null(effect)?;
+            let evaluation = evaluate(&setup, &model)?;
+            ensembles_run += 1;
+            Ok(((model, own_null_model), evaluation))
+        })?;
+        let result = match best {
+            Ok((effect, (model, own_null_model), evaluation)) => {
+                fitted.push((*kind, effect.clone()));
                 built.push((vec![*kind], model));
-                ensembles_run += 1;
                 tracing::info!(
                     "{}: gap {:.3} (training), {:.3} (hold-out)",
                     kind.name(),
@@ -186,10 +201,10 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     nested,
                 }
             }
-            Fitted::NotApplicable(why) => EffectResult {
+            Err(why) => EffectResult {
                 kind: *kind,
                 params: None,
-                note: Some(why.clone()),
+                note: Some(why),
                 evaluation: None,
                 judgement: None,
                 own_null: None,
@@ -222,12 +237,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     }
     let ranked: Vec<(EffectKind, &Evaluation)> =
         effects.iter().filter_map(|e| e.evaluation.as_ref().map(|ev| (e.kind, ev))).collect();
-    let found = |kind: EffectKind| {
-        fitted.iter().find_map(|(k, f)| match f {
-            Fitted::Found(e) if *k == kind => Some(e),
-            _ => None,
-        })
-    };
+    let found = |kind: EffectKind| fitted.iter().find_map(|(k, e)| (*k == kind).then_some(e));
     let own_null: Vec<EffectKind> = effects.iter().filter(|e| e.accepted_by_own_null()).map(|e| e.kind).collect();
     let combination = combine(&before, &ranked, &own_null, settings.min_share, settings.max_effects, |set| {
         let parts: Vec<&FittedEffect> = set.iter().filter_map(|&k| found(k)).collect();
@@ -286,6 +296,39 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         verdict,
         ensembles_run,
     })
+}
+
+/// Of `fits` (one effect's candidate fits), the one whose model `evaluate` scores best (the least
+/// mean log score, the order effects are ranked in), with what `evaluate` returned beside its
+/// evaluation; the first candidate's reason when none was found.
+fn best_fit<T>(
+    fits: Vec<Fitted>,
+    mut evaluate: impl FnMut(&FittedEffect) -> Result<(T, Evaluation), SimgapError>,
+) -> Result<Result<(FittedEffect, T, Evaluation), String>, SimgapError> {
+    let mut best: Option<(FittedEffect, T, Evaluation)> = None;
+    let mut why = None;
+    for fit in fits {
+        match fit {
+            Fitted::Found(effect) => {
+                let (built, evaluation) = evaluate(&effect)?;
+                if best.as_ref().is_none_or(|b| evaluation.mean_log_score() < b.2.mean_log_score()) {
+                    best = Some((effect, built, evaluation));
+                }
+            }
+            Fitted::NotApplicable(reason) => {
+                why.get_or_insert(reason);
+            }
+        }
+    }
+    Ok(best.ok_or_else(|| why.unwrap_or_default()))
+}
+
+/// How many steps the window detector's bias-jump fit `fit` holds (none where it found nothing).
+fn window_steps(fit: &Fitted) -> usize {
+    match fit {
+        Fitted::Found(FittedEffect { params: EffectParams::BiasJumps { detected, .. }, .. }) => *detected,
+        _ => 0,
+    }
 }
 
 /// The nested-model test of `kind` against the fitted `terms`, where the effect has one: a test of

@@ -30,7 +30,7 @@
 //! prediction interval of one more draw).
 //!
 //! Where it passes, the change points of the segmentation are the steps the bias-jump effect is
-//! fitted from when the window detector finds too few ([`super::fit_events::fit_jumps_at`]). Like
+//! fitted from when the window detector finds fewer ([`super::fit_events::fit_jumps_at`]). Like
 //! the other nested tests it counts only when the bias jumps rank first.
 
 use super::SimgapError;
@@ -48,7 +48,7 @@ use crate::model::normal::normal_quantile;
 pub const PENALTY: f64 = 1.5;
 /// Level of the test: 1 − 0.01/20, stricter than the other nested tests' 1 %
 /// ([`NESTED_LEVEL`]). A pass here does more than theirs: it also makes the effect's fit (the
-/// segmentation's change points, where the window detector found too few), and a fit that removes
+/// segmentation's change points, where the window detector found fewer), and a fit that removes
 /// a dozen level changes from the training part leaves a narrower own null, which the recording
 /// then leaves; and the null is a fitted Gaussian model of floors that may be banks of
 /// Gauss–Markov processes. At 1 % three of the 70 tuning controls of seeds 2380–2409 and 2680–2719
