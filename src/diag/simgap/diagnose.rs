@@ -146,7 +146,6 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     // The fit kept per effect, for the combinations below.
     let mut fitted: Vec<(EffectKind, FittedEffect)> = Vec::new();
     for (kind, fits) in candidates {
-        let kind = &kind;
         let best = best_fit(fits, |effect| {
             let (model, own_null_model) = builder.build_with_own_null(effect)?;
             let evaluation = evaluate(&setup, &model)?;
@@ -155,8 +154,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         })?;
         let result = match best {
             Ok((effect, (model, own_null_model), evaluation)) => {
-                fitted.push((*kind, effect.clone()));
-                built.push((vec![*kind], model));
+                fitted.push((kind, effect.clone()));
+                built.push((vec![kind], model));
                 tracing::info!(
                     "{}: gap {:.3} (training), {:.3} (hold-out)",
                     kind.name(),
@@ -173,11 +172,11 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 };
                 let own_null_judgement = own_null.as_ref().map(|n| judge(n, &evaluation, settings.min_share));
                 let detector = own_null.as_ref().and_then(|n| {
-                    detector_test(*kind, setup.layout_train.info(), setup.layout_hold.info(), n, &evaluation)
+                    detector_test(kind, setup.layout_train.info(), setup.layout_hold.info(), n, &evaluation)
                 });
                 let nested = match (&baseline_terms, &jumps) {
-                    (_, Some((test, _))) if *kind == EffectKind::BiasJumps => Some(log_nested(*kind, test.clone())),
-                    (Some(terms), _) => nested_test(*kind, recording, terms, builder.total_s, settings.seed)?,
+                    (_, Some((test, _))) if kind == EffectKind::BiasJumps => Some(log_nested(kind, test.clone())),
+                    (Some(terms), _) => nested_test(kind, recording, terms, builder.total_s, settings.seed)?,
                     (None, _) => None,
                 };
                 if let Some(n) = &own_null {
@@ -190,7 +189,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     );
                 }
                 EffectResult {
-                    kind: *kind,
+                    kind,
                     params: Some(effect.params.clone()),
                     note: None,
                     judgement: Some(judge(&before, &evaluation, settings.min_share)),
@@ -202,7 +201,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 }
             }
             Err(why) => EffectResult {
-                kind: *kind,
+                kind,
                 params: None,
                 note: Some(why),
                 evaluation: None,

@@ -8,7 +8,7 @@
 //! | `temperature` | slope of 1 s means of the rate on 1 s means of `temp_c` | bias ∝ recorded `temp_c` |
 //! | `ramp` | least-squares slope | `ramp_deg_h2` |
 //! | `sinusoid` | strongest line of the Hann periodogram against its local median, frequency refined, amplitude and phase by least squares | `sinusoids` |
-//! | `bias_jumps` | steps where adjacent 60 s means differ by more than 4.5 robust σ, at a peak of that difference ([`super::fit_events`]), or, where the step process' nested test passes ([`super::nested_jumps`]) and its segmentation has more change points than those, its change points; rate and size counted over the hold-out's steps too | Poisson jumps of the detected rate and RMS size |
+//! | `bias_jumps` | steps where adjacent 60 s means differ by more than 4.5 robust σ, at a peak of that difference ([`super::fit_events`]), or, where the step process' nested test passes ([`super::nested_jumps`]) and its segmentation has more change points than those, its change points where that fit evaluates better; rate and size counted over the hold-out's steps too | Poisson jumps of the detected rate and RMS size |
 //! | `spikes` | samples more than 5.5 robust σ from the median of their 5-sample neighbourhood, spread in time as a Poisson process's events | Poisson spikes of the detected rate and mean size |
 //! | `quantization` | the grid step of the values (when they sit on one) | rate-mode quantiser |
 //! | `gauss_markov` | a Gauss–Markov column in the Allan fit ([`super::baseline`]) | an extra Gauss–Markov process |

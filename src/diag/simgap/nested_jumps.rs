@@ -29,9 +29,10 @@
 //! times their standard deviation (inflated by √(1 + 1/members) for the estimated mean: the
 //! prediction interval of one more draw).
 //!
-//! Where it passes, the change points of the segmentation are the steps the bias-jump effect is
-//! fitted from when the window detector finds fewer ([`super::fit_events::fit_jumps_at`]). Like
-//! the other nested tests it counts only when the bias jumps rank first.
+//! Where it passes and the window detector finds fewer steps, the bias-jump effect is also fitted
+//! from the segmentation's change points ([`super::fit_events::fit_jumps_at`]), and the fit that
+//! evaluates better is kept ([`mod@super::diagnose`]). Like the other nested tests it counts only
+//! when the bias jumps rank first.
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
@@ -47,7 +48,7 @@ use crate::model::normal::normal_quantile;
 /// beyond 3.5 null σ).
 pub const PENALTY: f64 = 1.5;
 /// Level of the test: 1 − 0.01/20, stricter than the other nested tests' 1 %
-/// ([`NESTED_LEVEL`]). A pass here does more than theirs: it also makes the effect's fit (the
+/// ([`NESTED_LEVEL`]). A pass here does more than theirs: it also offers the effect a fit (the
 /// segmentation's change points, where the window detector found fewer), and a fit that removes
 /// a dozen level changes from the training part leaves a narrower own null, which the recording
 /// then leaves; and the null is a fitted Gaussian model of floors that may be banks of
