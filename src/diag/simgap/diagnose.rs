@@ -23,7 +23,7 @@
 use super::SimgapError;
 use super::baseline::{NoiseTerms, fit_noise_terms};
 use super::builder::ModelBuilder;
-use super::effects::{TrainingData, fit_effect};
+use super::effects::{TrainingData, fit_candidates};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
@@ -135,11 +135,12 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     };
     let candidates: Vec<(EffectKind, Vec<Fitted>)> = EffectKind::ALL
         .iter()
-        .map(|&k| match (k, fit_effect(k, &data), step_changes) {
-            (EffectKind::BiasJumps, fit, Some(changes)) if window_steps(&fit) < changes.len() => {
-                (k, vec![fit, fit_jumps_at(data.x, data.holdout, rate_hz, changes)])
+        .map(|&k| match (k, fit_candidates(k, &data), step_changes) {
+            (EffectKind::BiasJumps, mut fits, Some(changes)) if window_steps(&fits[0]) < changes.len() => {
+                fits.push(fit_jumps_at(data.x, data.holdout, rate_hz, changes));
+                (k, fits)
             }
-            (k, fit, _) => (k, vec![fit]),
+            (k, fits, _) => (k, fits),
         })
         .collect();
     let mut effects = Vec::new();

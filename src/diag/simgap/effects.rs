@@ -7,7 +7,7 @@
 //! | `warmup` | A·e^(−t/T): T on a log grid (duration/300 … duration), A and an offset by least squares on 1 s means | `warmup` |
 //! | `temperature` | slope of 1 s means of the rate on 1 s means of `temp_c` | bias ∝ recorded `temp_c` |
 //! | `ramp` | least-squares slope | `ramp_deg_h2` |
-//! | `sinusoid` | strongest line of the Hann periodogram against its local median, frequency refined, amplitude and phase by least squares | `sinusoids` |
+//! | `sinusoid` | strongest line of the Hann periodogram against its local median, frequency refined, amplitude and phase by least squares; where the whole part's rectangular periodogram ([`super::fast_line`]) peaks elsewhere, a fit at that line too, the one that evaluates better kept | `sinusoids` |
 //! | `bias_jumps` | steps where adjacent 60 s means differ by more than 4.5 robust σ, at a peak of that difference ([`super::fit_events`]), or, where the step process' nested test passes ([`super::nested_jumps`]) and its segmentation has more change points than those, its change points where that fit evaluates better; rate and size counted over the hold-out's steps too | Poisson jumps of the detected rate and RMS size |
 //! | `spikes` | samples more than 5.5 robust σ from the median of their 5-sample neighbourhood, spread in time as a Poisson process's events | Poisson spikes of the detected rate and mean size |
 //! | `quantization` | the grid step of the values (when they sit on one) | rate-mode quantiser |
@@ -17,7 +17,7 @@
 
 use super::baseline::fit_noise_terms;
 use super::fit_events::{fit_jumps, fit_quantization, fit_spikes};
-use super::fit_spectral::fit_sinusoid;
+use super::fit_spectral::{fit_sinusoid, fit_sinusoid_candidates};
 use super::fit_time::{fit_ramp, fit_temperature, fit_warmup};
 use super::params::{EffectKind, EffectParams, Fitted, FittedEffect};
 
@@ -35,6 +35,17 @@ pub struct TrainingData<'a> {
     /// too ([`super::fit_events::fit_jumps`]); empty when there is none (the
     /// refit's simulated training parts).
     pub holdout: &'a [f64],
+}
+
+/// The candidate fits of `kind` on the training part: one ([`fit_effect`]), except for the
+/// sinusoid, whose two line searches may find different lines
+/// ([`super::fit_spectral::fit_sinusoid_candidates`]); the diagnosis keeps the candidate whose
+/// model evaluates better.
+pub fn fit_candidates(kind: EffectKind, data: &TrainingData<'_>) -> Vec<Fitted> {
+    match kind {
+        EffectKind::Sinusoid => fit_sinusoid_candidates(data.x, data.rate_hz),
+        _ => vec![fit_effect(kind, data)],
+    }
 }
 
 /// Fits `kind` on the training part.

@@ -87,7 +87,10 @@ pub struct OwnDetector {
     pub continues: bool,
 }
 
-/// The matched filters of `kind` (none for an effect without one). The bias jumps have two: the
+/// The matched filters of `kind` (none for an effect without one). The sinusoid has two: the
+/// strongest line of the 1 s means (Hann-windowed, against a red floor down to slow lines) and
+/// that of the whole part's periodogram ([`super::fast_line`]: above the means' 0.5 Hz, and a
+/// stable line's whole evidence). The bias jumps have two: the
 /// strongest step, for a few steps each far above the noise, and the step kurtosis
 /// ([`super::fit_events::step_kurtosis`]), for many steps each near it — they make the window
 /// differences heavy-tailed, which a Gaussian noise model of any spectrum does not, so the fitted
@@ -99,7 +102,7 @@ pub fn own_detectors(kind: EffectKind) -> &'static [OwnDetector] {
     const WARMUP: [OwnDetector; 1] = [detector("warmup_amplitude", true, false)];
     const RAMP: [OwnDetector; 1] = [detector("ramp_change", true, true)];
     const TEMPERATURE: [OwnDetector; 1] = [detector("temperature_slope", true, false)];
-    const SINUSOID: [OwnDetector; 1] = [detector("slow_line", false, false)];
+    const SINUSOID: [OwnDetector; 2] = [detector("slow_line", false, false), detector("fast_line", false, false)];
     const JUMPS: [OwnDetector; 2] = [detector("strongest_step", false, false), detector("step_kurtosis", false, false)];
     match kind {
         EffectKind::Warmup => &WARMUP,

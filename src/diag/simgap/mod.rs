@@ -12,7 +12,8 @@
 //! - [`model`], [`baseline`], [`refit`]: the simulated model, the IEEE Std 952 baseline fit and
 //!   its refit once fitted effects are removed.
 //! - [`effects`] (catalogue) with [`params`] (the effects and their fitted parameters) and
-//!   [`fit_time`], [`fit_spectral`], [`fit_events`] (the fits).
+//!   [`fit_time`], [`fit_spectral`], [`fit_events`] (the fits); [`fast_line`]: the strongest line
+//!   of a whole part's periodogram.
 //! - [`ensemble`]: the seeded ensemble of a model, compared on the training and hold-out parts;
 //!   [`uncertainty`]: the noise terms' uncertainty carried into it.
 //! - [`greedy`]: acceptance, ranking and the greedy combination of effects; [`nested`]: the
@@ -35,6 +36,7 @@ pub mod builder;
 pub mod diagnose;
 pub mod effects;
 pub mod ensemble;
+pub mod fast_line;
 pub mod fit_events;
 pub mod fit_spectral;
 pub mod fit_time;

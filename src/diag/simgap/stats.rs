@@ -7,8 +7,10 @@
 //! - **PSD bands**: Welch density ([`crate::diag::psd`], Hann, segments of up to 4096 samples and at
 //!   most N/4) averaged over octave bands of bins [2^k, 2^(k+1)); log10.
 //! - **Spectral line**: the largest ratio of a Welch bin to the median of the 16 bins around it
-//!   (a sinusoid stands out; broadband noise does not); as is, scored under a Gumbel law
-//!   ([`Scale::Maximum`]).
+//!   (a sinusoid stands out; broadband noise does not), and, where the part is long enough, the
+//!   strongest line of its one full-length periodogram ([`super::fast_line`]: a stable line's
+//!   whole evidence, which Welch's segment average divides); both as they are, scored under a
+//!   Gumbel law ([`Scale::Maximum`]).
 //! - **Distribution**: the kurtosis of increments over one sample and of the means of 1 s, 10 s and
 //!   60 s blocks (where at least 40 blocks fit): spikes raise the first, bias jumps the others; and,
 //!   when the recording sits on a grid of step Δ, the grid coherence |mean(e^(2πi·x/Δ))| (1 on the
@@ -39,6 +41,7 @@
 use serde::Serialize;
 
 use super::SimgapError;
+use super::fast_line::FastLinePlan;
 use super::fit_events::{StepScores, step_kurtosis};
 use super::fit_spectral::{LineSearch, Reach};
 use super::fit_time::{ramp_change, temperature_slope, warmup_fit};
@@ -173,7 +176,7 @@ const SPECTRAL_LINE_SCALE: Scale = Scale::Maximum;
 /// What one entry of a statistics vector is.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StatInfo {
-    /// Kind: `allan_deviation`, `psd`, `spectral_line`, `kurtosis`, `quantisation`,
+    /// Kind: `allan_deviation`, `psd`, `spectral_line`, `fast_line`, `kurtosis`, `quantisation`,
     /// `compensation`, `bias_trajectory`, `trajectory_roughness`, `warmup_amplitude`,
     /// `ramp_change`, `slow_line`, `strongest_step`, `step_kurtosis` or `temperature_slope`.
     pub statistic: &'static str,
@@ -208,6 +211,9 @@ pub struct StatLayout {
     allan_m: Vec<usize>,
     psd_segment: usize,
     psd_bands: Vec<(usize, usize)>,
+    /// The full-length line search, where the part is long enough for it
+    /// ([`super::fast_line::reaches`]).
+    fast_line: Option<FastLinePlan>,
     kurtosis_scales: Vec<usize>,
     grid_step: Option<f64>,
     /// Sample ranges of the trajectory blocks (10 equal, then the early ones).
@@ -286,6 +292,17 @@ impl StatLayout {
             unit: "ratio",
             x: f64::NAN,
         });
+        let fast_line = FastLinePlan::new(len);
+        if fast_line.is_some() {
+            info.push(StatInfo {
+                statistic: "fast_line",
+                band: "strongest line of the whole part's periodogram / its background".into(),
+                group: Group::SpectralLine,
+                scale: SPECTRAL_LINE_SCALE,
+                unit: "ratio",
+                x: f64::NAN,
+            });
+        }
         let mut kurtosis_scales = vec![1];
         info.push(kurtosis_info("increments over 1 sample".into()));
         for s in KURTOSIS_BLOCKS_S {
@@ -396,6 +413,7 @@ impl StatLayout {
             allan_m,
             psd_segment,
             psd_bands,
+            fast_line,
             kurtosis_scales,
             grid_step,
             trajectory,
@@ -432,6 +450,9 @@ impl StatLayout {
             out.push(log10(psd.density[k0..k1].iter().sum::<f64>() / (k1 - k0) as f64));
         }
         out.push(SPECTRAL_LINE_SCALE.of(line_ratio(&psd.density)));
+        if let Some(plan) = &self.fast_line {
+            out.push(SPECTRAL_LINE_SCALE.of(plan.search(x, self.rate_hz).map_or(0.0, |l| l.ratio)));
+        }
         for &m in &self.kurtosis_scales {
             let means = block_means(x, m);
             let inc: Vec<f64> = means.windows(2).map(|w| w[1] - w[0]).collect();
