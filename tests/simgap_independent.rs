@@ -61,7 +61,18 @@ fn diagnose(dir: &Path, case: &Value, extra: &[&str]) -> Value {
 /// One report case of `class` from `seed`, generated into `dir` and diagnosed on two threads: the
 /// case's manifest entry and the JSON document.
 fn one_case(dir: &Path, seed: &str, class: &str) -> (Value, Value) {
-    let cases = generate(dir, &["--first-seed", seed, "--per-class", "1", "--classes", class]);
+    one_case_in(dir, seed, class, "report")
+}
+
+/// [`one_case`] for a seed of the generator's tuning range.
+fn one_tuning_case(dir: &Path, seed: &str, class: &str) -> (Value, Value) {
+    one_case_in(dir, seed, class, "tuning")
+}
+
+/// One case of `class` from `seed` in `range` ("report" or "tuning"), generated into `dir` and
+/// diagnosed on two threads: the case's manifest entry and the JSON document.
+fn one_case_in(dir: &Path, seed: &str, class: &str, range: &str) -> (Value, Value) {
+    let cases = generate_in_range(dir, &["--first-seed", seed, "--per-class", "1", "--classes", class], range);
     let doc = diagnose(dir, &cases[0], &["--threads", "2"]);
     (cases[0].clone(), doc)
 }
@@ -315,9 +326,7 @@ fn a_slow_ramp_the_fitted_terms_absorb_is_found_by_its_matched_filter() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let cases =
-        generate_in_range(dir.path(), &["--first-seed", "1844", "--per-class", "1", "--classes", "ramp"], "tuning");
-    let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+    let (_, doc) = one_tuning_case(dir.path(), "1844", "ramp");
     assert!(!baseline_shows_a_gap(&doc), "the baseline alone shows a gap: {}", doc["before"]);
     let ramp = effect(&doc, "ramp");
     let detector = &ramp["detector"];
@@ -341,11 +350,9 @@ fn a_faint_line_is_fitted_from_the_whole_periodogram_and_named() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let cases =
-        generate_in_range(dir.path(), &["--first-seed", "2749", "--per-class", "1", "--classes", "sinusoid"], "tuning");
-    let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+    let (case, doc) = one_tuning_case(dir.path(), "2749", "sinusoid");
     let sinusoid = effect(&doc, "sinusoid");
-    let injected = cases[0]["params"]["frequency_hz"].as_f64().unwrap();
+    let injected = case["params"]["frequency_hz"].as_f64().unwrap();
     let fitted = sinusoid["params"]["frequency_hz"].as_f64().unwrap();
     assert!((fitted / injected - 1.0).abs() < 0.01, "fitted {fitted} Hz against {injected} Hz");
     assert_eq!(sinusoid["detector"]["statistic"], "fast_line", "{sinusoid}");
@@ -366,9 +373,7 @@ fn an_absorbed_warm_up_and_ramp_are_found_by_their_nested_tests() {
     }
     for (seed, class, name) in [("2500", "warmup", "warmup"), ("2642", "ramp", "ramp")] {
         let dir = tempfile::tempdir().unwrap();
-        let cases =
-            generate_in_range(dir.path(), &["--first-seed", seed, "--per-class", "1", "--classes", class], "tuning");
-        let doc = diagnose(dir.path(), &cases[0], &["--threads", "2"]);
+        let (_, doc) = one_tuning_case(dir.path(), seed, class);
         assert!(!baseline_shows_a_gap(&doc), "seed {seed}: the baseline alone shows a gap: {}", doc["before"]);
         let nested = &effect(&doc, name)["nested"];
         assert!(nested["passed"].as_bool().unwrap(), "seed {seed}: {nested}");

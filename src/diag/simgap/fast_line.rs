@@ -24,7 +24,7 @@
 //!    largest of M independent ones lies near ln M. It is compared with the ensemble's, so the
 //!    padding's correlated ordinates and the median's own scatter need no closed form.
 
-use super::robust::{block_means, linear_fit};
+use super::robust::{block_means, detrended};
 use crate::diag::fft::RealPeriodogram;
 
 /// Most means searched: a longer part is searched on means of several samples.
@@ -85,13 +85,10 @@ impl FastLinePlan {
         if x.len() / self.block_len != self.means {
             return None;
         }
-        let y = block_means(x, self.block_len);
+        let y = detrended(&block_means(x, self.block_len));
         let n = y.len();
         let fs = rate_hz / self.block_len as f64;
-        let t: Vec<f64> = (0..n).map(|k| k as f64).collect();
-        let (slope, offset) = linear_fit(&t, &y);
-        let detrended: Vec<f64> = y.iter().enumerate().map(|(k, v)| v - offset - slope * k as f64).collect();
-        let power = self.periodogram.power(&detrended);
+        let power = self.periodogram.power(&y);
         let nfft = self.periodogram.len();
         let padding = nfft as f64 / n as f64;
         let block = ((BLOCK_BINS as f64 * padding).round() as usize).max(1);

@@ -152,11 +152,22 @@ impl LineSearch {
 
 /// Fits the strongest spectral line of `x` (module docs).
 pub fn fit_sinusoid(x: &[f64], rate_hz: f64) -> Fitted {
-    let Some(LineSearch { residual: r, window, nfft, bin, .. }) = LineSearch::of(x, rate_hz, Reach::SlowLines) else {
-        return Fitted::NotApplicable("training part too short for a periodogram".into());
-    };
-    let df = rate_hz / nfft as f64;
-    fit_line(&r, &window, (bin as f64 - 1.0) * df, (bin as f64 + 1.0) * df, rate_hz)
+    match LineSearch::of(x, rate_hz, Reach::SlowLines) {
+        Some(search) => fit_searched_line(&search, rate_hz),
+        None => too_short(),
+    }
+}
+
+/// Why a part has no sinusoid fit: too short for the Hann search's periodogram.
+fn too_short() -> Fitted {
+    Fitted::NotApplicable("training part too short for a periodogram".into())
+}
+
+/// The fit at the line of a Hann search (module docs, step 3).
+fn fit_searched_line(search: &LineSearch, rate_hz: f64) -> Fitted {
+    let df = rate_hz / search.nfft as f64;
+    let bin = search.bin as f64;
+    fit_line(&search.residual, &search.window, (bin - 1.0) * df, (bin + 1.0) * df, rate_hz)
 }
 
 /// The sinusoid's candidate fits: the strongest line of the Hann search ([`fit_sinusoid`]) and,
@@ -165,7 +176,10 @@ pub fn fit_sinusoid(x: &[f64], rate_hz: f64) -> Fitted {
 /// a line differently (module docs of `fast_line`), and which is the effect is for the ensemble
 /// to judge.
 pub fn fit_sinusoid_candidates(x: &[f64], rate_hz: f64) -> Vec<Fitted> {
-    let hann = fit_sinusoid(x, rate_hz);
+    let Some(search) = LineSearch::of(x, rate_hz, Reach::SlowLines) else {
+        return vec![too_short()];
+    };
+    let hann = fit_searched_line(&search, rate_hz);
     let Some(line) = FastLine::of(x, rate_hz) else {
         return vec![hann];
     };
@@ -178,12 +192,11 @@ pub fn fit_sinusoid_candidates(x: &[f64], rate_hz: f64) -> Vec<Fitted> {
     if !elsewhere {
         return vec![hann];
     }
-    let t: Vec<f64> = (0..x.len()).map(|k| k as f64 / rate_hz).collect();
-    let (slope, offset) = linear_fit(&t, x);
-    let r: Vec<f64> = x.iter().zip(&t).map(|(v, s)| v - offset - slope * s).collect();
-    let flat = vec![1.0; r.len()];
+    // The Hann search's residual (the part less its least-squares line), unwindowed.
+    let flat = vec![1.0; search.residual.len()];
     let bracket = 2.0 * line.half_bin_hz;
-    vec![hann, fit_line(&r, &flat, line.frequency_hz - bracket, line.frequency_hz + bracket, rate_hz)]
+    let low = line.frequency_hz - bracket;
+    vec![hann, fit_line(&search.residual, &flat, low, line.frequency_hz + bracket, rate_hz)]
 }
 
 /// The sinusoid of the detrended series `r`: its frequency refined by a golden-section search of

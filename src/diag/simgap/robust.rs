@@ -67,6 +67,13 @@ pub fn linear_fit(t: &[f64], y: &[f64]) -> (f64, f64) {
     (slope, ym - slope * tm)
 }
 
+/// `x` less its least-squares line ([`linear_fit`] against the sample index).
+pub fn detrended(x: &[f64]) -> Vec<f64> {
+    let index: Vec<f64> = (0..x.len()).map(|j| j as f64).collect();
+    let (slope, offset) = linear_fit(&index, x);
+    x.iter().zip(&index).map(|(v, j)| v - offset - slope * j).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

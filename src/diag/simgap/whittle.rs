@@ -27,7 +27,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::SimgapError;
 use super::baseline::NoiseTerms;
-use super::robust::linear_fit;
+use super::robust::detrended;
 use crate::diag::fft::Fft;
 use crate::sim::terms::{flicker_poles, gauss_markov_averaged};
 
@@ -228,13 +228,6 @@ fn taper(n: usize) -> Vec<f64> {
             if from_end >= edge { 1.0 } else { 0.5 * (1.0 - (PI * (from_end as f64 + 0.5) / edge as f64).cos()) }
         })
         .collect()
-}
-
-/// `x` less its least-squares line ([`super::robust::linear_fit`] against the sample index).
-fn detrended(x: &[f64]) -> Vec<f64> {
-    let index: Vec<f64> = (0..x.len()).map(|j| j as f64).collect();
-    let (slope, offset) = linear_fit(&index, x);
-    x.iter().zip(&index).map(|(v, j)| v - offset - slope * j).collect()
 }
 
 /// Spectral density (per-sample variance units, ω radians per sample) of a first-order
