@@ -108,6 +108,28 @@ fn same_seed_same_numbers_different_seed_different_any_block_cut() {
     assert_ne!(a.axes[0].white, a.axes[1].white);
 }
 
+/// One axis generated alone ([`Generator::into_axis`]) is that axis of the whole run, to the bit,
+/// however the run is cut into blocks and from whatever position the generator was reduced at.
+#[test]
+fn one_axis_alone_is_that_axis_of_the_whole_run() {
+    let cfg = SimConfig { duration_s: 1000.0, ..Preset::Mpu6050.config() };
+    let all = Generator::generate(&cfg, 42).unwrap();
+    for (axis, series) in all.axes.iter().enumerate() {
+        let mut one = Generator::new(&cfg, 42).unwrap().into_axis(axis);
+        let (mut piece, mut joined) = (Vec::new(), Vec::new());
+        for len in [1, 4095, 4097, 10_000, 81_807] {
+            one.fill(len, &mut piece);
+            joined.extend_from_slice(&piece);
+        }
+        assert_eq!(joined, series.raw, "axis {axis}");
+    }
+    let mut generator = Generator::new(&cfg, 42).unwrap();
+    generator.fill(5_000, &mut gyrocomp::sim::SimOutput::default());
+    let mut rest = Vec::new();
+    generator.into_axis(2).fill(1_000, &mut rest);
+    assert_eq!(rest, all.axes[2].raw[5_000..6_000]);
+}
+
 #[test]
 fn truth_columns_add_up_and_terms_keep_their_streams() {
     let full = AxisConfig {

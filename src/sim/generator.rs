@@ -62,7 +62,7 @@ impl SimOutput {
 
 /// The planned terms of one axis.
 #[derive(Debug, Clone)]
-struct AxisGenerator {
+struct AxisTerms {
     bias: f64,
     processes: Vec<GaussMarkov>,
     rrw: Option<RandomWalk>,
@@ -74,7 +74,7 @@ struct AxisGenerator {
     quantiser: Option<Quantiser>,
 }
 
-impl AxisGenerator {
+impl AxisTerms {
     fn new(model: &AxisConfig, axis: u64, rate_hz: f64, seed: u64) -> Self {
         let dt = 1.0 / rate_hz;
         let processes = match &model.bias_instability {
@@ -182,7 +182,7 @@ pub struct Generator {
     rate_hz: f64,
     next: u64,
     temperature: TemperatureTrajectory,
-    axes: Vec<AxisGenerator>,
+    axes: Vec<AxisTerms>,
     temp_true: Vec<f64>,
     sum: Vec<f64>,
 }
@@ -191,7 +191,7 @@ impl Generator {
     /// Plans the generator of `config` (validated) for `seed`.
     pub fn new(config: &SimConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        let axes = (0..3).map(|i| AxisGenerator::new(&config.axis_model(i), i as u64, config.rate_hz, seed)).collect();
+        let axes = (0..3).map(|i| AxisTerms::new(&config.axis_model(i), i as u64, config.rate_hz, seed)).collect();
         Ok(Self {
             rate_hz: config.rate_hz,
             next: 0,
@@ -208,6 +208,27 @@ impl Generator {
         let mut out = SimOutput::default();
         generator.fill(config.samples(), &mut out);
         Ok(out)
+    }
+
+    /// This generator reduced to one axis (0 = x, 1 = y, 2 = z), from its current position: the
+    /// same samples of that axis as [`Self::fill`] would give, without simulating or storing the
+    /// other two (each axis draws from its own streams, so leaving them out changes nothing).
+    ///
+    /// # Panics
+    /// If `axis` is not 0, 1 or 2 (a programming error).
+    pub fn into_axis(mut self, axis: usize) -> AxisGenerator {
+        let generator = self.axes.swap_remove(axis);
+        AxisGenerator {
+            rate_hz: self.rate_hz,
+            next: self.next,
+            temperature: self.temperature,
+            generator,
+            temp_true: self.temp_true,
+            temp_reading: vec![0.0; CHUNK],
+            sum: self.sum,
+            drift: vec![0.0; CHUNK],
+            white: vec![0.0; CHUNK],
+        }
     }
 
     /// Sample rate, Hz.
@@ -241,6 +262,44 @@ impl Generator {
                 };
                 axis.fill(t_s, temp_true, chunk, &mut self.sum[..n]);
             }
+            start = end;
+        }
+        self.next += len as u64;
+    }
+}
+
+/// One axis of a [`Generator`] ([`Generator::into_axis`]): its raw output alone, in blocks of any
+/// length, with working buffers of one inner block rather than of the whole run (the ensembles of
+/// the sim-to-real diagnosis simulate one axis many times over).
+#[derive(Debug, Clone)]
+pub struct AxisGenerator {
+    rate_hz: f64,
+    next: u64,
+    temperature: TemperatureTrajectory,
+    generator: AxisTerms,
+    temp_true: Vec<f64>,
+    temp_reading: Vec<f64>,
+    sum: Vec<f64>,
+    drift: Vec<f64>,
+    white: Vec<f64>,
+}
+
+impl AxisGenerator {
+    /// Replaces the contents of `raw` with the axis's next `len` raw samples, deg/s.
+    pub fn fill(&mut self, len: usize, raw: &mut Vec<f64>) {
+        raw.resize(len, 0.0);
+        let mut t_s = [0.0; CHUNK];
+        let mut start = 0;
+        while start < len {
+            let end = (start + CHUNK).min(len);
+            let n = end - start;
+            for (i, t) in t_s[..n].iter_mut().enumerate() {
+                *t = (self.next + (start + i) as u64) as f64 / self.rate_hz;
+            }
+            self.temperature.fill(&t_s[..n], &mut self.temp_true[..n], &mut self.temp_reading[..n]);
+            let chunk =
+                ChunkOut { raw: &mut raw[start..end], drift: &mut self.drift[..n], white: &mut self.white[..n] };
+            self.generator.fill(&t_s[..n], &self.temp_true[..n], chunk, &mut self.sum[..n]);
             start = end;
         }
         self.next += len as u64;

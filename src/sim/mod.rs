@@ -26,6 +26,6 @@ pub use config::{
     AxisConfig, BiasInstability, ConfigError, Jumps, Quantization, QuantizationMode, SimConfig, Sinusoid, Spikes,
     TemperatureCoefficient, TemperatureConfig, TemperatureRamp, Warmup,
 };
-pub use generator::{AXIS_NAMES, AxisSeries, Generator, SimOutput};
+pub use generator::{AXIS_NAMES, AxisGenerator, AxisSeries, Generator, SimOutput};
 pub use motion::{MotionKind, MotionPlan, MotionSegment};
 pub use presets::Preset;

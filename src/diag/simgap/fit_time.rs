@@ -27,33 +27,65 @@ fn block_times(blocks: usize, block: usize, rate_hz: f64) -> Vec<f64> {
 
 /// Warm-up `A·e^(−t/T)` (plus an offset): for each T of a log grid (duration/300 … duration),
 /// A and the offset by least squares on 1 s means; the T with the smallest residual wins.
-/// Returns (A deg/s, T s), or `None` for fewer than 10 s of data.
+/// Returns (A deg/s, T s), or `None` for fewer than 10 s of data. ([`WarmupPlan`] for many parts
+/// of one length.)
 pub fn warmup_fit(x: &[f64], rate_hz: f64) -> Option<(f64, f64)> {
-    let block = second_blocks(rate_hz);
-    let y = block_means(x, block);
-    if y.len() < 10 {
-        return None;
-    }
-    let t = block_times(y.len(), block, rate_hz);
-    let duration = x.len() as f64 / rate_hz;
-    let (lo, hi) = (duration * WARMUP_RANGE.0, duration * WARMUP_RANGE.1);
-    let ym = y.iter().sum::<f64>() / y.len() as f64;
-    let mut best = (f64::NEG_INFINITY, 0.0, lo);
-    for g in 0..WARMUP_GRID {
-        let tc = lo * (hi / lo).powf(g as f64 / (WARMUP_GRID - 1) as f64);
-        let u: Vec<f64> = t.iter().map(|&s| (-s / tc).exp()).collect();
-        let um = u.iter().sum::<f64>() / u.len() as f64;
-        let (mut suy, mut suu) = (0.0, 0.0);
-        for (a, b) in u.iter().zip(&y) {
-            suy += (a - um) * (b - ym);
-            suu += (a - um) * (a - um);
+    WarmupPlan::new(x.len(), rate_hz)?.fit(x)
+}
+
+/// The warm-up fit ([`warmup_fit`]) planned for parts of one length: the grid's exponentials,
+/// centred, and their sums of squares depend only on the part's length and rate, so every
+/// ensemble member's part is fitted against the same ones, computed once (the same numbers, to
+/// the bit, as computing them per part).
+#[derive(Debug, Clone)]
+pub struct WarmupPlan {
+    len: usize,
+    block: usize,
+    /// (T, e^(−t/T) less its mean over the blocks, their sum of squares) per grid point.
+    grid: Vec<(f64, Vec<f64>, f64)>,
+}
+
+impl WarmupPlan {
+    /// The plan for parts of `len` samples at `rate_hz`; `None` for fewer than 10 s of data.
+    pub fn new(len: usize, rate_hz: f64) -> Option<Self> {
+        let block = second_blocks(rate_hz);
+        let blocks = len / block;
+        if blocks < 10 {
+            return None;
         }
-        // Residual = Syy − Suy²/Suu: the largest explained part wins.
-        if suu > 0.0 && suy * suy / suu > best.0 {
-            best = (suy * suy / suu, suy / suu, tc);
-        }
+        let t = block_times(blocks, block, rate_hz);
+        let duration = len as f64 / rate_hz;
+        let (lo, hi) = (duration * WARMUP_RANGE.0, duration * WARMUP_RANGE.1);
+        let grid = (0..WARMUP_GRID)
+            .map(|g| {
+                let tc = lo * (hi / lo).powf(g as f64 / (WARMUP_GRID - 1) as f64);
+                let u: Vec<f64> = t.iter().map(|&s| (-s / tc).exp()).collect();
+                let um = u.iter().sum::<f64>() / u.len() as f64;
+                let centred: Vec<f64> = u.iter().map(|a| a - um).collect();
+                let suu = centred.iter().fold(0.0, |acc, c| acc + c * c);
+                (tc, centred, suu)
+            })
+            .collect();
+        Some(Self { len, block, grid })
     }
-    Some((best.1, best.2))
+
+    /// The fit of `x` (of the planned length; `None` otherwise): (A deg/s, T s).
+    pub fn fit(&self, x: &[f64]) -> Option<(f64, f64)> {
+        if x.len() != self.len {
+            return None;
+        }
+        let y = block_means(x, self.block);
+        let ym = y.iter().sum::<f64>() / y.len() as f64;
+        let mut best = (f64::NEG_INFINITY, 0.0, self.grid[0].0);
+        for (tc, centred, suu) in &self.grid {
+            let suy = centred.iter().zip(&y).fold(0.0, |acc, (c, b)| acc + c * (b - ym));
+            // Residual = Syy − Suy²/Suu: the largest explained part wins.
+            if *suu > 0.0 && suy * suy / suu > best.0 {
+                best = (suy * suy / suu, suy / suu, *tc);
+            }
+        }
+        Some((best.1, best.2))
+    }
 }
 
 /// Whether a fitted warm-up time constant is the grid's longest, the length of the part of

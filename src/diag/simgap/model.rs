@@ -77,11 +77,8 @@ pub fn simulate(
         y: AxisConfig::default(),
         z: AxisConfig::default(),
     };
-    let mut generator = Generator::new(&config, seed)?;
-    let mut out = Default::default();
-    generator.fill(len, &mut out);
-    let crate::sim::SimOutput { axes: [x, _, _], .. } = out;
-    let mut rate = x.raw;
+    let mut rate = Vec::new();
+    Generator::new(&config, seed)?.into_axis(0).fill(len, &mut rate);
     if model.angle_noise_q_deg > 0.0 {
         let sigma = model.angle_noise_q_deg * rate_hz;
         let mut stream = Stream::indexed(seed, 0, StreamId::White, ANGLE_NOISE_STREAM);

@@ -13,8 +13,20 @@ pub fn median(x: &[f64]) -> f64 {
         return f64::NAN;
     }
     let mut v = x.to_vec();
-    v.sort_unstable_by(f64::total_cmp);
-    quantile_sorted(&v, 0.5)
+    median_in_place(&mut v)
+}
+
+/// Median of `v` (non-empty), reordering it: the middle order statistics are selected rather
+/// than the whole slice sorted, and combined as [`quantile_sorted`] combines them at q = 0.5, so
+/// the value is the sorted slice's to the bit.
+fn median_in_place(v: &mut [f64]) -> f64 {
+    let (lo, odd) = ((v.len() - 1) / 2, v.len() % 2 == 1);
+    let (_, &mut low, above) = v.select_nth_unstable_by(lo, f64::total_cmp);
+    if odd {
+        return quantile_sorted(&[low], 0.5);
+    }
+    let high = above.iter().copied().min_by(f64::total_cmp).unwrap_or(low);
+    quantile_sorted(&[low, high], 0.5)
 }
 
 /// Median absolute deviation about the median, scaled to a Gaussian σ ([`MAD_TO_SIGMA`]).

@@ -44,7 +44,7 @@ use super::SimgapError;
 use super::fast_line::FastLinePlan;
 use super::fit_events::{StepScores, step_kurtosis};
 use super::fit_spectral::{LineSearch, Reach};
-use super::fit_time::{ramp_change, temperature_slope, warmup_fit};
+use super::fit_time::{WarmupPlan, ramp_change, temperature_slope};
 use super::robust::{block_means, kurtosis, linear_fit, median};
 use crate::diag::allan::{Taus, oadev};
 use crate::diag::psd::welch;
@@ -214,6 +214,8 @@ pub struct StatLayout {
     /// The full-length line search, where the part is long enough for it
     /// ([`super::fast_line::reaches`]).
     fast_line: Option<FastLinePlan>,
+    /// The warm-up fit's exponentials ([`WarmupPlan`]); `None` for a part under 10 s.
+    warmup: Option<WarmupPlan>,
     kurtosis_scales: Vec<usize>,
     grid_step: Option<f64>,
     /// Sample ranges of the trajectory blocks (10 equal, then the early ones).
@@ -414,6 +416,7 @@ impl StatLayout {
             psd_segment,
             psd_bands,
             fast_line,
+            warmup: WarmupPlan::new(len, rate_hz),
             kurtosis_scales,
             grid_step,
             trajectory,
@@ -475,7 +478,7 @@ impl StatLayout {
         let (slope, intercept) = linear_fit(&centres, &blocks[..TRAJECTORY_BLOCKS]);
         let rough = centres.iter().zip(&blocks).map(|(c, b)| (b - intercept - slope * c).powi(2)).sum::<f64>();
         out.push(log10((rough / TRAJECTORY_BLOCKS as f64).sqrt()));
-        out.push(warmup_fit(x, self.rate_hz).map_or(0.0, |(amplitude, _)| amplitude));
+        out.push(self.warmup.as_ref().and_then(|plan| plan.fit(x)).map_or(0.0, |(amplitude, _)| amplitude));
         out.push(ramp_change(x, self.rate_hz));
         let second = (self.rate_hz.round() as usize).max(1);
         let slow_rate = self.rate_hz / second as f64;

@@ -146,10 +146,11 @@ impl SpectralTransform {
         let residual = detrended(x);
         let window = taper(n);
         let norm: f64 = window.iter().map(|w| w * w).sum();
-        let single = (1..=SINGLE_ORDINATES).map(|k| dft_at(&residual, &window, k as f64 / n as f64)).collect();
+        let weighted: Vec<f64> = residual.iter().zip(&window).map(|(v, w)| v * w).collect();
+        let single = lowest_ordinates(&weighted, SINGLE_ORDINATES);
         let padded = (2 * n).next_power_of_two();
         let fft = Fft::new(padded).ok_or_else(|| SimgapError::Numerical(format!("no FFT of length {padded}")))?;
-        let mut re: Vec<f64> = residual.iter().zip(&window).map(|(v, w)| v * w).collect();
+        let mut re = weighted;
         re.resize(padded, 0.0);
         let mut im = vec![0.0; padded];
         fft.forward(&mut re, &mut im);
@@ -205,18 +206,30 @@ impl Binned {
     }
 }
 
-/// The DFT (cosine and sine sums) of the windowed `residual` at `freq` cycles per sample (the
-/// sums of `fit_spectral::dft_power`, whose power is their squared modulus).
-fn dft_at(residual: &[f64], window: &[f64], freq: f64) -> (f64, f64) {
-    let step = TAU * freq;
-    let mut sum = (0.0, 0.0);
-    for (k, (r, w)) in residual.iter().zip(window).enumerate() {
-        let a = step * k as f64;
-        let (sin, cos) = a.sin_cos();
-        sum.0 += r * w * cos;
-        sum.1 += r * w * sin;
-    }
-    sum
+/// The DFT (cosine and sine sums) of `weighted` (the windowed residual) at its Fourier
+/// frequencies k/n cycles per sample, k = 1 … `count` (the sums of `fit_spectral::dft_power`,
+/// whose power is their squared modulus). The angles 2π(kj mod n)/n come from one table of the n
+/// roots of unity, so the transform costs n sines and cosines rather than `count`·n, and each
+/// angle is reduced exactly rather than from the rounded product 2πk/n·j.
+fn lowest_ordinates(weighted: &[f64], count: usize) -> Vec<(f64, f64)> {
+    let n = weighted.len();
+    let roots: Vec<(f64, f64)> = (0..n).map(|m| (TAU * m as f64 / n as f64).sin_cos()).collect();
+    (1..=count)
+        .map(|k| {
+            let step = k % n.max(1);
+            let (mut m, mut sum) = (0, (0.0, 0.0));
+            for &v in weighted {
+                let (sin, cos) = roots[m];
+                sum.0 += v * cos;
+                sum.1 += v * sin;
+                m += step;
+                if m >= n {
+                    m -= n;
+                }
+            }
+            sum
+        })
+        .collect()
 }
 
 /// The Tukey window over `n` samples ([`TAPER_SHARE`] tapered).
@@ -448,6 +461,26 @@ mod tests {
     use super::*;
     use crate::diag::simgap::model::{SimModel, simulate};
     use crate::sim::AxisConfig;
+
+    /// The table-driven transform at the lowest Fourier frequencies equals the direct sums
+    /// Σ vⱼ·(cos, sin)(2πkj/n) to rounding, on a length that is not a power of two.
+    #[test]
+    fn the_lowest_ordinates_are_the_direct_transform() {
+        let n = 1_001;
+        let v: Vec<f64> =
+            (0..n).map(|j| ((j * 7919) % 1_000) as f64 / 500.0 - 1.0 + (j as f64 * 0.013).sin()).collect();
+        let table = lowest_ordinates(&v, 40);
+        for (k, &(c, s)) in (1..=40).zip(&table) {
+            let mut direct = (0.0, 0.0);
+            for (j, x) in v.iter().enumerate() {
+                let (sin, cos) = (TAU * (k * j) as f64 / n as f64).sin_cos();
+                direct.0 += x * cos;
+                direct.1 += x * sin;
+            }
+            assert!((c - direct.0).abs() < 1e-10 && (s - direct.1).abs() < 1e-10, "k {k}: {c} {s} against {direct:?}");
+        }
+        assert!(table.iter().any(|&(c, s)| c.abs() + s.abs() > 1.0));
+    }
 
     /// Both Gauss–Markov forms integrate to the unit variance over (−π, π] (the spectrum's
     /// definition), and the interval-mean form tends to white noise of variance 2T/dt for T ≪ dt.
