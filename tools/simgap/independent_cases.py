@@ -21,6 +21,16 @@ Noise floors (IEEE Std 952 terms, deg/s units; `s` below is the floor's scale: 0
 `quiet` is s = 0.1, `nominal` s = 1, `noisy` s = 10; `nominal_flat` has no GM bank (white + RRW
 only). Effect magnitudes scale with s, so the magnitude bins are signal-to-floor bins.
 
+Floors of other shapes (s = 1, same white N; chosen only with --floors, so the default draws of
+the floors above are unchanged):
+
+    early_bias   GM bank (0.03, 2 s), (0.015, 20 s), (0.008, 200 s): bias instability from a
+                 few seconds on (a consumer MEMS), RRW as nominal
+    steep_rrw    the nominal GM bank, RRW K x10 (the Allan curve rising from ~10 min)
+    white_only   white noise alone
+    flicker      nine GM processes of sigma 0.005 at 0.3, 1, 3, ... 3000 s (1/f over four
+                 decades, B ~ 0.006 deg/s), RRW as nominal
+
 Effect classes (expected first named effect in brackets; the magnitude factor m is drawn
 log-uniform in the class's range; its bin is the third of the log-range it falls in):
 
@@ -81,10 +91,22 @@ FLOORS = {
     "nominal": 1.0,
     "noisy": 10.0,
     "nominal_flat": 1.0,
+    "early_bias": 1.0,
+    "steep_rrw": 1.0,
+    "white_only": 1.0,
+    "flicker": 1.0,
 }
 WHITE_N = 0.03
 GM_BANK = [(0.004, 8.0), (0.005, 90.0), (0.004, 900.0)]
 RRW_K = 4e-5
+# The floors of other shapes (thirty-first session; not in the default --floors, so the seeds of
+# earlier sets draw the same cases): bias instability from a few seconds on, as a consumer MEMS;
+# a rate random walk 10x nominal (the Allan curve rising from ~10 min); white noise alone; and a
+# 1/f flicker over four decades (equal-variance Gauss-Markov poles, two per decade, 0.3-3000 s).
+EARLY_BANK = [(0.03, 2.0), (0.015, 20.0), (0.008, 200.0)]
+FLICKER_BANK = [(0.005, 0.3 * 10 ** (k / 2)) for k in range(9)]
+BANKS = {"nominal_flat": [], "white_only": [], "early_bias": EARLY_BANK, "flicker": FLICKER_BANK}
+RRW_SCALE = {"steep_rrw": 10.0, "white_only": 0.0}
 
 CLASSES = [
     "warmup",
@@ -127,10 +149,9 @@ def floor_noise(rng, name, n, fs):
     s = FLOORS[name]
     dt = 1.0 / fs
     x = rng.standard_normal(n) * (s * WHITE_N * math.sqrt(fs))
-    if name != "nominal_flat":
-        for sigma, tau in GM_BANK:
-            x += ar1(rng, n, s * sigma, tau, dt)
-    x += np.cumsum(rng.standard_normal(n)) * (s * RRW_K * math.sqrt(dt))
+    for sigma, tau in BANKS.get(name, GM_BANK):
+        x += ar1(rng, n, s * sigma, tau, dt)
+    x += np.cumsum(rng.standard_normal(n)) * (s * RRW_K * RRW_SCALE.get(name, 1.0) * math.sqrt(dt))
     return x
 
 
@@ -324,8 +345,8 @@ def make_case(seed, klass, rates, durations, floors):
 def floor_description(name):
     """The floor's terms in deg/s units (the manifest's `floors` entry)."""
     s = FLOORS[name]
-    bank = [] if name == "nominal_flat" else [[sg * s, tau] for sg, tau in GM_BANK]
-    return dict(scale=s, white_n=WHITE_N * s, gm_bank=bank, rrw_k=RRW_K * s)
+    bank = [[sg * s, tau] for sg, tau in BANKS.get(name, GM_BANK)]
+    return dict(scale=s, white_n=WHITE_N * s, gm_bank=bank, rrw_k=RRW_K * RRW_SCALE.get(name, 1.0) * s)
 
 
 def write_csv(path, t, x, temp):
