@@ -12,7 +12,8 @@ use std::f64::consts::TAU;
 use std::fmt;
 use std::sync::Arc;
 
-use rustfft::num_complex::Complex64;
+/// A complex number of the transforms' buffers (`rustfft`'s, i.e. `num_complex`'s).
+pub use rustfft::num_complex::Complex64;
 
 /// A planned FFT of one power-of-two length.
 #[derive(Clone)]
@@ -55,20 +56,6 @@ impl Fft {
     pub fn process(&self, buffer: &mut [Complex64]) {
         assert!(buffer.len() == self.n, "FFT buffer must have the planned length");
         self.plan.process(buffer);
-    }
-
-    /// Transforms `(re, im)` in place (both of length [`len`](Self::len)).
-    ///
-    /// # Panics
-    /// If a slice has another length (a programming error, not a data error).
-    pub fn forward(&self, re: &mut [f64], im: &mut [f64]) {
-        assert!(re.len() == self.n && im.len() == self.n, "FFT buffers must have the planned length");
-        let mut buffer: Vec<Complex64> = re.iter().zip(im.iter()).map(|(&r, &i)| Complex64::new(r, i)).collect();
-        self.plan.process(&mut buffer);
-        for ((r, i), z) in re.iter_mut().zip(im.iter_mut()).zip(&buffer) {
-            *r = z.re;
-            *i = z.im;
-        }
     }
 }
 
@@ -154,15 +141,24 @@ mod tests {
             .collect()
     }
 
+    /// The transform of the real series `x` zero-padded to the plan's length.
+    fn transform(fft: &Fft, x: &[f64]) -> Vec<Complex64> {
+        let mut z = vec![Complex64::new(0.0, 0.0); fft.len()];
+        for (z, &v) in z.iter_mut().zip(x) {
+            z.re = v;
+        }
+        fft.process(&mut z);
+        z
+    }
+
     #[test]
     fn equals_the_definition() {
         for n in [1usize, 2, 4, 8, 64, 256] {
             let x: Vec<f64> = (0..n).map(|j| ((j * 7919) % 31) as f64 / 7.0 - 2.0 + (j as f64 * 0.3).sin()).collect();
             let fft = Fft::new(n).unwrap();
-            let (mut re, mut im) = (x.clone(), vec![0.0; n]);
-            fft.forward(&mut re, &mut im);
+            let z = transform(&fft, &x);
             for (k, (r, i)) in naive_dft(&x).into_iter().enumerate() {
-                assert!((re[k] - r).abs() < 1e-9 && (im[k] - i).abs() < 1e-9, "n {n} bin {k}");
+                assert!((z[k].re - r).abs() < 1e-9 && (z[k].im - i).abs() < 1e-9, "n {n} bin {k}");
             }
         }
     }
@@ -172,10 +168,9 @@ mod tests {
         let n = 1024;
         let x: Vec<f64> = (0..n).map(|j| (j as f64 * 0.017).cos() + ((j * 31) % 17) as f64 * 0.1).collect();
         let fft = Fft::new(n).unwrap();
-        let (mut re, mut im) = (x.clone(), vec![0.0; n]);
-        fft.forward(&mut re, &mut im);
+        let z = transform(&fft, &x);
         let time: f64 = x.iter().map(|v| v * v).sum();
-        let freq: f64 = re.iter().zip(&im).map(|(r, i)| r * r + i * i).sum::<f64>() / n as f64;
+        let freq: f64 = z.iter().map(|z| z.re * z.re + z.im * z.im).sum::<f64>() / n as f64;
         assert!((time - freq).abs() < 1e-9 * time);
     }
 
@@ -186,15 +181,12 @@ mod tests {
         for (n, len) in [(2usize, 2usize), (4, 3), (16, 16), (64, 41), (1024, 1000)] {
             let x: Vec<f64> = (0..len).map(|j| (j as f64 * 0.37).sin() + ((j * 13) % 7) as f64 * 0.2).collect();
             let fft = Fft::new(n).unwrap();
-            let mut re = vec![0.0; n];
-            re[..len].copy_from_slice(&x);
-            let mut im = vec![0.0; n];
-            fft.forward(&mut re, &mut im);
+            let z = transform(&fft, &x);
             let power = RealPeriodogram::new(n).unwrap().power(&x);
             assert_eq!(power.len(), n / 2 + 1);
-            let scale = re.iter().zip(&im).map(|(r, i)| r * r + i * i).fold(1.0, f64::max);
+            let scale = z.iter().map(|z| z.re * z.re + z.im * z.im).fold(1.0, f64::max);
             for (k, p) in power.iter().enumerate() {
-                let want = re[k] * re[k] + im[k] * im[k];
+                let want = z[k].re * z[k].re + z[k].im * z[k].im;
                 assert!((p - want).abs() < 1e-10 * scale, "n {n} bin {k}: {p} against {want}");
             }
         }

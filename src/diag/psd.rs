@@ -13,7 +13,7 @@
 
 use std::f64::consts::TAU;
 
-use crate::diag::fft::Fft;
+use crate::diag::fft::{Complex64, Fft};
 
 /// A one-sided power spectral density on the bins k = 0 … L/2.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,8 +51,8 @@ pub struct Welch {
     fft: Fft,
     window: Vec<f64>,
     window_power: f64,
-    re: Vec<f64>,
-    im: Vec<f64>,
+    /// The segment being transformed.
+    buffer: Vec<Complex64>,
 }
 
 impl Welch {
@@ -61,7 +61,7 @@ impl Welch {
         let fft = Fft::new(segment).filter(|_| segment >= 4).ok_or(PsdError::BadSegment(segment))?;
         let window: Vec<f64> = (0..segment).map(|j| 0.5 - 0.5 * (TAU * j as f64 / segment as f64).cos()).collect();
         let window_power = window.iter().map(|w| w * w).sum();
-        Ok(Self { fft, window, window_power, re: vec![0.0; segment], im: vec![0.0; segment] })
+        Ok(Self { fft, window, window_power, buffer: vec![Complex64::new(0.0, 0.0); segment] })
     }
 
     /// The segment length L.
@@ -85,13 +85,12 @@ impl Welch {
         for s in 0..segments {
             let seg = &x[s * step..s * step + l];
             let mean = seg.iter().sum::<f64>() / l as f64;
-            for ((re, &v), &w) in self.re.iter_mut().zip(seg).zip(&self.window) {
-                *re = (v - mean) * w;
+            for ((z, &v), &w) in self.buffer.iter_mut().zip(seg).zip(&self.window) {
+                *z = Complex64::new((v - mean) * w, 0.0);
             }
-            self.im.fill(0.0);
-            self.fft.forward(&mut self.re, &mut self.im);
-            for (k, d) in density.iter_mut().enumerate() {
-                *d += self.re[k] * self.re[k] + self.im[k] * self.im[k];
+            self.fft.process(&mut self.buffer);
+            for (d, z) in density.iter_mut().zip(&self.buffer) {
+                *d += z.re * z.re + z.im * z.im;
             }
         }
         let scale = 1.0 / (rate_hz * self.window_power * segments as f64);

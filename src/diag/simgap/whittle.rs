@@ -28,7 +28,7 @@ use nalgebra::{DMatrix, DVector};
 use super::SimgapError;
 use super::baseline::NoiseTerms;
 use super::robust::detrended;
-use crate::diag::fft::Fft;
+use crate::diag::fft::{Complex64, Fft};
 use crate::sim::terms::{flicker_poles, gauss_markov_averaged};
 
 /// Share of the series tapered (half at each end).
@@ -132,7 +132,7 @@ pub struct SpectralTransform {
     len: usize,
     norm: f64,
     single: Vec<(f64, f64)>,
-    padded: (Vec<f64>, Vec<f64>),
+    padded: Vec<Complex64>,
 }
 
 impl SpectralTransform {
@@ -150,11 +150,12 @@ impl SpectralTransform {
         let single = lowest_ordinates(&weighted, SINGLE_ORDINATES);
         let padded = (2 * n).next_power_of_two();
         let fft = Fft::new(padded).ok_or_else(|| SimgapError::Numerical(format!("no FFT of length {padded}")))?;
-        let mut re = weighted;
-        re.resize(padded, 0.0);
-        let mut im = vec![0.0; padded];
-        fft.forward(&mut re, &mut im);
-        Ok(SpectralTransform { len: n, norm, single, padded: (re, im) })
+        let mut transform = vec![Complex64::new(0.0, 0.0); padded];
+        for (z, &v) in transform.iter_mut().zip(&weighted) {
+            z.re = v;
+        }
+        fft.process(&mut transform);
+        Ok(SpectralTransform { len: n, norm, single, padded: transform })
     }
 }
 
@@ -185,8 +186,8 @@ impl Binned {
             }
             weight.push(1.0);
         }
-        let padded = series[0].padded.0.len();
-        let at = |s: usize, p: usize| (series[s].padded.0[p], series[s].padded.1[p]);
+        let padded = series[0].padded.len();
+        let at = |s: usize, p: usize| (series[s].padded[p].re, series[s].padded[p].im);
         let step = TAU / padded as f64;
         let mut lo = spacing * (SINGLE_ORDINATES as f64 + 0.5);
         while lo < PI {
