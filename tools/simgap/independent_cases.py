@@ -48,7 +48,8 @@ log-uniform in the class's range; its bin is the third of the log-range it falls
                   per-sample noise, 3-13 white-noise sigma in 100 s means: the issue's "many
                   small steps"; added in the twenty-fourth session, after the classes above, so
                   their seeds draw the same cases as before)                      [bias_jumps]
-    spikes        Poisson 5-100 /h single-sample outliers of ±m*s, m in [0.6, 3]   [spikes]
+    spikes        Poisson 5-100 /h single-sample outliers of ±m*s*sqrt(rate/10 Hz), m in
+                  [0.6, 3]: 6-30 sigma of the per-sample white noise at any rate  [spikes]
     quantization  output rounded to a grid of m*s deg/s, m in [0.02, 0.2]          [quantization]
     gauss_markov  sigma = m * s, m in [0.006, 0.04], correlation time log-uniform 5-300 s
                   (sub-class gm_1min when 30-120 s)                               [gauss_markov]
@@ -245,7 +246,10 @@ def add_effect(rng, kind, t, fs, duration, s, temp, strength=None):
         rate = rng.uniform(5.0, 100.0)
         idx = np.unique(rng.integers(0, n, max(1, rng.poisson(rate * duration / 3600.0))))
         x = np.zeros(n)
-        x[idx] = rng.choice([-1.0, 1.0], idx.size) * m * s * rng.uniform(0.7, 1.3, idx.size)
+        # In units of the per-sample white noise at 10 Hz: the same multiple of it at any rate
+        # (the factor is exactly 1 at 10 Hz, so the default draws are unchanged).
+        size = m * s * math.sqrt(fs / 10.0)
+        x[idx] = rng.choice([-1.0, 1.0], idx.size) * size * rng.uniform(0.7, 1.3, idx.size)
         return x, None, dict(sub="spikes", m=m, u=u, rate_per_h=rate, spikes=int(idx.size), time_scale_s=None)
     if kind == "quantization":
         m, u = draw(0.02, 0.2)

@@ -492,6 +492,47 @@ impl StatLayout {
         debug_assert_eq!(out.len(), self.info.len());
         Ok(out)
     }
+
+    /// Where the strongest lines of `x` (a real part of [`len`](Self::len) samples) lie: the
+    /// frequency of the bin or line that the `spectral_line` (Welch), `fast_line` and `slow_line`
+    /// statistics score, so that a residual's *where* can say at which frequency a line stands out.
+    pub fn line_frequencies(&self, x: &[f64]) -> Result<LineFrequencies, SimgapError> {
+        if x.len() != self.len {
+            return Err(SimgapError::TooShort { samples: x.len(), need: self.len });
+        }
+        let index = |name: &str| self.info.iter().position(|i| i.statistic == name);
+        let mut lines = Vec::new();
+        let psd = welch(x, self.rate_hz, self.psd_segment)?;
+        let (ratio, bin) = line_peak(&psd.density);
+        if let (Some(i), true) = (index("spectral_line"), ratio > 0.0) {
+            lines.push((i, psd.freq_hz[bin]));
+        }
+        if let (Some(i), Some(line)) =
+            (index("fast_line"), self.fast_line.as_ref().and_then(|p| p.search(x, self.rate_hz)))
+        {
+            lines.push((i, line.frequency_hz));
+        }
+        let second = (self.rate_hz.round() as usize).max(1);
+        let slow_rate = self.rate_hz / second as f64;
+        if let (Some(i), Some(search)) =
+            (index("slow_line"), LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours))
+        {
+            lines.push((i, search.bin as f64 * slow_rate / search.nfft as f64));
+        }
+        Ok(LineFrequencies(lines))
+    }
+}
+
+/// The frequencies of a real part's strongest lines by statistic index
+/// ([`StatLayout::line_frequencies`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LineFrequencies(Vec<(usize, f64)>);
+
+impl LineFrequencies {
+    /// The frequency, Hz, of the line statistic `i` scores; `None` for other statistics.
+    pub fn at(&self, i: usize) -> Option<f64> {
+        self.0.iter().find(|&&(j, _)| j == i).map(|&(_, f)| f)
+    }
 }
 
 fn kurtosis_info(band: String) -> StatInfo {
@@ -507,16 +548,21 @@ fn kurtosis_info(band: String) -> StatInfo {
 
 /// Largest ratio of a PSD bin to the median of the [`LINE_HALF_WINDOW`] bins on each side.
 fn line_ratio(density: &[f64]) -> f64 {
+    line_peak(density).0
+}
+
+/// The strongest bin's ratio to the median of its neighbours (as [`line_ratio`]) and the bin.
+fn line_peak(density: &[f64]) -> (f64, usize) {
     let half = density.len() - 1;
-    let mut best: f64 = 0.0;
+    let mut best: (f64, usize) = (0.0, 0);
     let mut window = Vec::with_capacity(2 * LINE_HALF_WINDOW);
     for k in LINE_MIN_BIN.max(LINE_HALF_WINDOW)..=half.saturating_sub(LINE_HALF_WINDOW) {
         window.clear();
         window.extend_from_slice(&density[k - LINE_HALF_WINDOW..k]);
         window.extend_from_slice(&density[k + 1..=k + LINE_HALF_WINDOW]);
         let background = median(&window);
-        if background > 0.0 {
-            best = best.max(density[k] / background);
+        if background > 0.0 && density[k] / background > best.0 {
+            best = (density[k] / background, k);
         }
     }
     best
@@ -581,6 +627,32 @@ mod tests {
         let with_line: Vec<f64> = noise.iter().enumerate().map(|(i, v)| v + 0.2 * (i as f64 * 0.9).sin()).collect();
         let psd = |x: &[f64]| welch(x, 10.0, 1024).unwrap().density;
         assert!(line_ratio(&psd(&with_line)) > 5.0 * line_ratio(&psd(&noise)));
+    }
+
+    /// Each line statistic reports the frequency of the line it scores: a 1.2 Hz sinusoid for the
+    /// Welch and full-length searches, a 0.05 Hz one for the search on 1 s means.
+    #[test]
+    fn line_statistics_say_where_their_line_is() {
+        let (fs, n) = (10.0, 40_000);
+        let mut state = 11u64;
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                let t = i as f64 / fs;
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+                    + 0.1 * (std::f64::consts::TAU * 1.2 * t).sin()
+                    + 0.05 * (std::f64::consts::TAU * 0.05 * t).sin()
+            })
+            .collect();
+        let layout = StatLayout::new(n, fs, 0.0, None, false).unwrap();
+        let lines = layout.line_frequencies(&x).unwrap();
+        let at = |name: &str| lines.at(layout.info().iter().position(|s| s.statistic == name).unwrap()).unwrap();
+        assert!((at("spectral_line") - 1.2).abs() <= fs / layout.psd_segment as f64, "{}", at("spectral_line"));
+        assert!((at("fast_line") - 1.2).abs() < 1e-3, "{}", at("fast_line"));
+        assert!((at("slow_line") - 0.05).abs() < 1e-3, "{}", at("slow_line"));
+        let allan = layout.info().iter().position(|s| s.statistic == "allan_deviation").unwrap();
+        assert_eq!(lines.at(allan), None);
+        assert!(layout.line_frequencies(&x[1..]).is_err());
     }
 
     #[test]
