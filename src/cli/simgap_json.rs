@@ -7,7 +7,7 @@ use serde_json::{Map, Value};
 use super::simgap_args::SimgapArgs;
 use crate::diag::simgap::baseline::NoiseTerms;
 use crate::diag::simgap::gap::PartComparison;
-use crate::diag::simgap::stats::{LineFrequencies, StatInfo, fmt_num};
+use crate::diag::simgap::stats::{Locations, StatInfo};
 use crate::diag::simgap::{Diagnosis, Verdict};
 
 /// One entry of `where`.
@@ -31,17 +31,17 @@ pub struct WhereEntry {
     pub unit: &'static str,
 }
 
-/// The statistics of `part` outside their band, largest |z| first; a line statistic's band says
-/// at which frequency the real part's line lies (`lines`).
-pub fn where_entries(info: &[StatInfo], part: &PartComparison, lines: &LineFrequencies) -> Vec<WhereEntry> {
+/// The statistics of `part` outside their band, largest |z| first; a line or step statistic's
+/// band says at which frequency or time the real part's line or step lies (`located`).
+pub fn where_entries(info: &[StatInfo], part: &PartComparison, located: &Locations) -> Vec<WhereEntry> {
     part.outside_by_size()
         .into_iter()
         .map(|i| {
             let (s, b) = (&info[i], &part.bands[i]);
             WhereEntry {
                 statistic: s.statistic,
-                band: match lines.at(i) {
-                    Some(f) => format!("{}; the real part's at {} Hz", s.band, fmt_num(f)),
+                band: match located.at(i) {
+                    Some(at) => format!("{}; the real part's at {}", s.band, at.text()),
                     None => s.band.clone(),
                 },
                 real: s.natural(part.real[i]),
@@ -105,7 +105,7 @@ pub(super) fn json_report<'a>(args: &'a SimgapArgs, d: &Diagnosis) -> JsonReport
     JsonReport {
         gap_before: d.before.hold.score.gap,
         gap_after: d.after.hold.score.gap,
-        r#where: where_entries(d.layout_hold.info(), &d.before.hold, &d.lines_hold),
+        r#where: where_entries(d.layout_hold.info(), &d.before.hold, &d.located_hold),
         effects,
         chosen: d.chosen.iter().map(|k| k.name()).collect(),
         tried: d.tried.iter().map(|k| k.name()).collect(),
@@ -114,8 +114,8 @@ pub(super) fn json_report<'a>(args: &'a SimgapArgs, d: &Diagnosis) -> JsonReport
         gap_after_train: d.after.train.score.gap,
         before: serde_json::json!({"train": part(&d.before.train), "holdout": part(&d.before.hold)}),
         after: serde_json::json!({"train": part(&d.after.train), "holdout": part(&d.after.hold)}),
-        where_train: where_entries(d.layout_train.info(), &d.before.train, &d.lines_train),
-        where_after: where_entries(d.layout_hold.info(), &d.after.hold, &d.lines_hold),
+        where_train: where_entries(d.layout_train.info(), &d.before.train, &d.located_train),
+        where_after: where_entries(d.layout_hold.info(), &d.after.hold, &d.located_hold),
         baseline_terms: d.baseline_terms,
         recording_terms: d.recording_terms,
         grid_step_dps: d.grid_step,

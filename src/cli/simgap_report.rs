@@ -144,7 +144,7 @@ pub fn write_report(dir: &Path, args: &SimgapArgs, d: &Diagnosis) -> Result<Path
     }
     let _ = write!(html, "<h2>Which effect</h2>{}", ranking_plot(d)?);
     html.push_str("<h2>Where (hold-out part, baseline)</h2><table><tr><th>statistic</th><th>band</th><th>real</th><th>sim 2.5 %</th><th>sim 97.5 %</th><th>z</th></tr>");
-    for e in where_entries(d.layout_hold.info(), &d.before.hold, &d.lines_hold) {
+    for e in where_entries(d.layout_hold.info(), &d.before.hold, &d.located_hold) {
         let _ = write!(
             html,
             "<tr><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.2}</td></tr>",

@@ -111,7 +111,7 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
     write_part_gaps(out, "before", (&d.before.train, &d.before.hold))?;
     write_part_gaps(out, "after", (&d.after.train, &d.after.hold))?;
     writeln!(out)?;
-    let entries = where_entries(d.layout_hold.info(), &d.before.hold, &d.lines_hold);
+    let entries = where_entries(d.layout_hold.info(), &d.before.hold, &d.located_hold);
     writeln!(out, "Where (hold-out part, baseline; outside the ensemble's 95 % band, largest first):")?;
     if entries.is_empty() {
         writeln!(out, "  nowhere")?;
@@ -188,9 +188,9 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
     };
     writeln!(out, "Verdict: {}{how_far}", d.verdict.text())?;
     if d.verdict == Verdict::PartlyExplained {
-        let residual = where_entries(d.layout_hold.info(), &d.after.hold, &d.lines_hold);
+        let residual = where_entries(d.layout_hold.info(), &d.after.hold, &d.located_hold);
         let residual = if residual.is_empty() {
-            where_entries(d.layout_train.info(), &d.after.train, &d.lines_train)
+            where_entries(d.layout_train.info(), &d.after.train, &d.located_train)
         } else {
             residual
         };

@@ -277,16 +277,16 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         None => builder.build(&tried.iter().filter_map(|&k| found(k)).collect::<Vec<_>>())?.0,
     };
     let Setup { layout_train, layout_hold, .. } = setup;
-    let lines_train = layout_train.line_frequencies(train)?;
-    let lines_hold = layout_hold.line_frequencies(&recording.rate[n_train..])?;
+    let located_train = layout_train.locate(train)?;
+    let located_hold = layout_hold.locate(&recording.rate[n_train..])?;
     Ok(Diagnosis {
         rate_hz,
         samples: len,
         n_train,
         layout_train,
         layout_hold,
-        lines_train,
-        lines_hold,
+        located_train,
+        located_hold,
         grid_step,
         baseline_terms,
         recording_terms,

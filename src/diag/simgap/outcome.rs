@@ -8,7 +8,7 @@ use super::greedy::{DetectorTest, Judgement};
 use super::model::SimModel;
 use super::nested::NestedTest;
 use super::params::{EffectKind, EffectParams};
-use super::stats::{LineFrequencies, StatLayout};
+use super::stats::{Locations, StatLayout};
 
 /// The verdict of a diagnosis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -99,10 +99,10 @@ pub struct Diagnosis {
     pub layout_train: StatLayout,
     /// Statistics of the hold-out part.
     pub layout_hold: StatLayout,
-    /// Where the real training part's strongest lines lie.
-    pub lines_train: LineFrequencies,
-    /// Where the real hold-out part's strongest lines lie.
-    pub lines_hold: LineFrequencies,
+    /// Where the real training part's strongest lines and steps lie.
+    pub located_train: Locations,
+    /// Where the real hold-out part's strongest lines and steps lie.
+    pub located_hold: Locations,
     /// Grid step of the recording's values, if any.
     pub grid_step: Option<f64>,
     /// The fitted noise terms (`None` with a given baseline).

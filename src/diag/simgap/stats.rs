@@ -221,6 +221,8 @@ pub struct StatLayout {
     /// Sample ranges of the trajectory blocks (10 equal, then the early ones).
     trajectory: Vec<(usize, usize)>,
     temperature: bool,
+    /// Start of the part in the recording, s (the trajectory labels, [`Located::Time`]).
+    offset_s: f64,
 }
 
 fn log10(v: f64) -> f64 {
@@ -421,6 +423,7 @@ impl StatLayout {
             grid_step,
             trajectory,
             temperature,
+            offset_s,
         })
     }
 
@@ -493,45 +496,73 @@ impl StatLayout {
         Ok(out)
     }
 
-    /// Where the strongest lines of `x` (a real part of [`len`](Self::len) samples) lie: the
-    /// frequency of the bin or line that the `spectral_line` (Welch), `fast_line` and `slow_line`
-    /// statistics score, so that a residual's *where* can say at which frequency a line stands out.
-    pub fn line_frequencies(&self, x: &[f64]) -> Result<LineFrequencies, SimgapError> {
+    /// Where the real part's value of each line or step statistic comes from: the frequency of
+    /// the bin or line that `spectral_line` (Welch), `fast_line` and `slow_line` score, and the
+    /// time of the largest window difference that `strongest_step` scores, so that a residual's
+    /// *where* can say at which frequency a line or at which time a step stands out. `x` is a real
+    /// part of [`len`](Self::len) samples.
+    pub fn locate(&self, x: &[f64]) -> Result<Locations, SimgapError> {
         if x.len() != self.len {
             return Err(SimgapError::TooShort { samples: x.len(), need: self.len });
         }
         let index = |name: &str| self.info.iter().position(|i| i.statistic == name);
-        let mut lines = Vec::new();
+        let mut found = Vec::new();
         let psd = welch(x, self.rate_hz, self.psd_segment)?;
         let (ratio, bin) = line_peak(&psd.density);
         if let (Some(i), true) = (index("spectral_line"), ratio > 0.0) {
-            lines.push((i, psd.freq_hz[bin]));
+            found.push((i, Located::Frequency(psd.freq_hz[bin])));
         }
         if let (Some(i), Some(line)) =
             (index("fast_line"), self.fast_line.as_ref().and_then(|p| p.search(x, self.rate_hz)))
         {
-            lines.push((i, line.frequency_hz));
+            found.push((i, Located::Frequency(line.frequency_hz)));
         }
         let second = (self.rate_hz.round() as usize).max(1);
         let slow_rate = self.rate_hz / second as f64;
         if let (Some(i), Some(search)) =
             (index("slow_line"), LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours))
         {
-            lines.push((i, search.bin as f64 * slow_rate / search.nfft as f64));
+            found.push((i, Located::Frequency(search.bin as f64 * slow_rate / search.nfft as f64)));
         }
-        Ok(LineFrequencies(lines))
+        if let (Some(i), Some(steps)) = (index("strongest_step"), StepScores::of(x, self.rate_hz)) {
+            let largest = steps.d.iter().enumerate().max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+            if let Some((j, _)) = largest {
+                let t = self.offset_s + (steps.positions[j] * steps.block) as f64 / self.rate_hz;
+                found.push((i, Located::Time(t)));
+            }
+        }
+        Ok(Locations(found))
     }
 }
 
-/// The frequencies of a real part's strongest lines by statistic index
-/// ([`StatLayout::line_frequencies`]).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct LineFrequencies(Vec<(usize, f64)>);
+/// Where a statistic's real value comes from ([`StatLayout::locate`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Located {
+    /// A frequency, Hz.
+    Frequency(f64),
+    /// A time in the recording, s.
+    Time(f64),
+}
 
-impl LineFrequencies {
-    /// The frequency, Hz, of the line statistic `i` scores; `None` for other statistics.
-    pub fn at(&self, i: usize) -> Option<f64> {
-        self.0.iter().find(|&&(j, _)| j == i).map(|&(_, f)| f)
+impl Located {
+    /// A short readable form: "0.54 Hz", "t = 1234 s".
+    pub fn text(self) -> String {
+        match self {
+            Located::Frequency(f) => format!("{} Hz", fmt_num(f)),
+            Located::Time(t) => format!("t = {} s", fmt_num(t.round())),
+        }
+    }
+}
+
+/// Where a real part's line and step statistics come from, by statistic index
+/// ([`StatLayout::locate`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Locations(Vec<(usize, Located)>);
+
+impl Locations {
+    /// Where statistic `i`'s real value comes from; `None` for statistics without a location.
+    pub fn at(&self, i: usize) -> Option<Located> {
+        self.0.iter().find(|&&(j, _)| j == i).map(|&(_, l)| l)
     }
 }
 
@@ -645,14 +676,38 @@ mod tests {
             })
             .collect();
         let layout = StatLayout::new(n, fs, 0.0, None, false).unwrap();
-        let lines = layout.line_frequencies(&x).unwrap();
-        let at = |name: &str| lines.at(layout.info().iter().position(|s| s.statistic == name).unwrap()).unwrap();
+        let lines = layout.locate(&x).unwrap();
+        let at = |name: &str| match lines.at(layout.info().iter().position(|s| s.statistic == name).unwrap()) {
+            Some(Located::Frequency(f)) => f,
+            other => panic!("{name}: {other:?}"),
+        };
         assert!((at("spectral_line") - 1.2).abs() <= fs / layout.psd_segment as f64, "{}", at("spectral_line"));
         assert!((at("fast_line") - 1.2).abs() < 1e-3, "{}", at("fast_line"));
         assert!((at("slow_line") - 0.05).abs() < 1e-3, "{}", at("slow_line"));
         let allan = layout.info().iter().position(|s| s.statistic == "allan_deviation").unwrap();
         assert_eq!(lines.at(allan), None);
-        assert!(layout.line_frequencies(&x[1..]).is_err());
+        assert!(layout.locate(&x[1..]).is_err());
+    }
+
+    /// The strongest step is placed at its time in the recording (the part starting 100 s in).
+    #[test]
+    fn the_strongest_step_is_located_in_time() {
+        let (fs, n) = (10.0, 40_000);
+        let mut state = 3u64;
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5 + if i >= 15_000 { 0.2 } else { 0.0 }
+            })
+            .collect();
+        let layout = StatLayout::new(n, fs, 100.0, None, false).unwrap();
+        let step = layout.info().iter().position(|s| s.statistic == "strongest_step").unwrap();
+        match layout.locate(&x).unwrap().at(step) {
+            Some(Located::Time(t)) => assert!((t - 1600.0).abs() <= 2.0, "{t}"),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(Located::Time(1600.4).text(), "t = 1600 s");
+        assert_eq!(Located::Frequency(0.54).text(), "0.54 Hz");
     }
 
     #[test]
