@@ -57,6 +57,20 @@ impl Fft {
         assert!(buffer.len() == self.n, "FFT buffer must have the planned length");
         self.plan.process(buffer);
     }
+
+    /// The transform of the real series `x` zero-padded to the planned length.
+    ///
+    /// # Panics
+    /// If `x` is longer than the plan (a programming error, not a data error).
+    pub fn transform_real(&self, x: &[f64]) -> Vec<Complex64> {
+        assert!(x.len() <= self.n, "series longer than the planned FFT");
+        let mut z = vec![Complex64::new(0.0, 0.0); self.n];
+        for (z, &v) in z.iter_mut().zip(x) {
+            z.re = v;
+        }
+        self.process(&mut z);
+        z
+    }
 }
 
 /// A planned periodogram of real series: |X\[k]|² for k = 0..=n/2 of a series zero-padded to a
@@ -141,22 +155,12 @@ mod tests {
             .collect()
     }
 
-    /// The transform of the real series `x` zero-padded to the plan's length.
-    fn transform(fft: &Fft, x: &[f64]) -> Vec<Complex64> {
-        let mut z = vec![Complex64::new(0.0, 0.0); fft.len()];
-        for (z, &v) in z.iter_mut().zip(x) {
-            z.re = v;
-        }
-        fft.process(&mut z);
-        z
-    }
-
     #[test]
     fn equals_the_definition() {
         for n in [1usize, 2, 4, 8, 64, 256] {
             let x: Vec<f64> = (0..n).map(|j| ((j * 7919) % 31) as f64 / 7.0 - 2.0 + (j as f64 * 0.3).sin()).collect();
             let fft = Fft::new(n).unwrap();
-            let z = transform(&fft, &x);
+            let z = fft.transform_real(&x);
             for (k, (r, i)) in naive_dft(&x).into_iter().enumerate() {
                 assert!((z[k].re - r).abs() < 1e-9 && (z[k].im - i).abs() < 1e-9, "n {n} bin {k}");
             }
@@ -168,7 +172,7 @@ mod tests {
         let n = 1024;
         let x: Vec<f64> = (0..n).map(|j| (j as f64 * 0.017).cos() + ((j * 31) % 17) as f64 * 0.1).collect();
         let fft = Fft::new(n).unwrap();
-        let z = transform(&fft, &x);
+        let z = fft.transform_real(&x);
         let time: f64 = x.iter().map(|v| v * v).sum();
         let freq: f64 = z.iter().map(|z| z.re * z.re + z.im * z.im).sum::<f64>() / n as f64;
         assert!((time - freq).abs() < 1e-9 * time);
@@ -181,7 +185,7 @@ mod tests {
         for (n, len) in [(2usize, 2usize), (4, 3), (16, 16), (64, 41), (1024, 1000)] {
             let x: Vec<f64> = (0..len).map(|j| (j as f64 * 0.37).sin() + ((j * 13) % 7) as f64 * 0.2).collect();
             let fft = Fft::new(n).unwrap();
-            let z = transform(&fft, &x);
+            let z = fft.transform_real(&x);
             let power = RealPeriodogram::new(n).unwrap().power(&x);
             assert_eq!(power.len(), n / 2 + 1);
             let scale = z.iter().map(|z| z.re * z.re + z.im * z.im).fold(1.0, f64::max);

@@ -417,10 +417,13 @@ fn time_dispersion(at: &[usize], len: usize) -> (f64, f64) {
 /// [`SPIKE_TAIL_SCALE`]·Φ⁻¹(1 − F/(2n)).
 pub fn spike_threshold(n: usize) -> f64 {
     let tail = SPIKE_FALSE_PER_PART / (2.0 * n.max(1) as f64);
-    if tail >= 0.5 {
-        return SPIKE_SIGMAS;
-    }
     SPIKE_SIGMAS.max(SPIKE_TAIL_SCALE * normal_quantile(1.0 - tail))
+}
+
+/// The spike candidates of a median residual `r` (module docs): the samples beyond `limit` that
+/// are the largest |r| within ±2 samples.
+fn spike_candidates(r: &[f64], limit: f64) -> Vec<usize> {
+    (2..r.len().saturating_sub(2)).filter(|&k| r[k].abs() > limit && is_largest_within(r, k, 2)).collect()
 }
 
 /// Spikes (module docs).
@@ -430,9 +433,7 @@ pub fn fit_spikes(x: &[f64], rate_hz: f64) -> Fitted {
     if sigma.is_nan() || sigma <= 0.0 {
         return Fitted::NotApplicable("constant series".into());
     }
-    let limit = spike_threshold(x.len()) * sigma;
-    let spikes: Vec<usize> =
-        (2..x.len().saturating_sub(2)).filter(|&k| r[k].abs() > limit && is_largest_within(&r, k, 2)).collect();
+    let spikes = spike_candidates(&r, spike_threshold(x.len()) * sigma);
     if spikes.is_empty() {
         return Fitted::NotApplicable(format!("no sample beyond {SPIKE_SIGMAS} robust sigma"));
     }
@@ -756,8 +757,7 @@ mod tests {
         let mut x: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
         let count = |x: &[f64], sigmas: f64| {
             let r = median5_residual(x);
-            let limit = sigmas * mad_sigma(&r);
-            (2..x.len() - 2).filter(|&k| r[k].abs() > limit && is_largest_within(&r, k, 2)).count()
+            spike_candidates(&r, sigmas * mad_sigma(&r)).len()
         };
         assert!(count(&x, SPIKE_SIGMAS) > 40, "the fixed threshold's false spikes: {}", count(&x, SPIKE_SIGMAS));
         assert!(count(&x, spike_threshold(n)) <= 4, "{}", count(&x, spike_threshold(n)));

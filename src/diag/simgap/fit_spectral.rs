@@ -25,7 +25,7 @@ use std::f64::consts::TAU;
 use super::fast_line::FastLine;
 use super::params::{EffectParams, Fitted, FittedEffect};
 use super::robust::{linear_fit, median};
-use crate::diag::fft::{Complex64, Fft};
+use crate::diag::fft::Fft;
 
 /// Bins on each side in the background median.
 const BACKGROUND_HALF: usize = 16;
@@ -112,11 +112,8 @@ impl LineSearch {
         let window: Vec<f64> = (0..n).map(|j| 0.5 - 0.5 * (TAU * j as f64 / n as f64).cos()).collect();
         let nfft = n.next_power_of_two().min(MAX_FFT);
         let fft = Fft::new(nfft)?;
-        let mut z = vec![Complex64::new(0.0, 0.0); nfft];
-        for j in 0..n.min(nfft) {
-            z[j].re = residual[j] * window[j];
-        }
-        fft.process(&mut z);
+        let weighted: Vec<f64> = residual.iter().zip(&window).take(nfft).map(|(r, w)| r * w).collect();
+        let z = fft.transform_real(&weighted);
         let power: Vec<f64> = (0..=nfft / 2).map(|k| z[k].re * z[k].re + z[k].im * z[k].im).collect();
         let padding = nfft as f64 / n.min(nfft) as f64;
         // The Hann main lobe spans ±2 bins of the unpadded series, and its sidelobes are 40 dB

@@ -483,9 +483,7 @@ impl StatLayout {
         out.push(log10((rough / TRAJECTORY_BLOCKS as f64).sqrt()));
         out.push(self.warmup.as_ref().and_then(|plan| plan.fit(x)).map_or(0.0, |(amplitude, _)| amplitude));
         out.push(ramp_change(x, self.rate_hz));
-        let second = (self.rate_hz.round() as usize).max(1);
-        let slow_rate = self.rate_hz / second as f64;
-        out.push(log10(LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours).map_or(0.0, |l| l.ratio)));
+        out.push(log10(self.slow_line(x).map_or(0.0, |(l, _)| l.ratio)));
         out.push(log10(StepScores::of(x, self.rate_hz).map_or(0.0, |s| s.strongest())));
         out.push(log10(step_kurtosis(x, self.rate_hz)));
         if self.temperature {
@@ -494,6 +492,14 @@ impl StatLayout {
         }
         debug_assert_eq!(out.len(), self.info.len());
         Ok(out)
+    }
+
+    /// The `slow_line` statistic's search: the strongest line of the part's 1 s means, and their
+    /// rate, Hz.
+    fn slow_line(&self, x: &[f64]) -> Option<(LineSearch, f64)> {
+        let second = (self.rate_hz.round() as usize).max(1);
+        let slow_rate = self.rate_hz / second as f64;
+        LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours).map(|l| (l, slow_rate))
     }
 
     /// Where the real part's value of each line or step statistic comes from: the frequency of
@@ -517,11 +523,7 @@ impl StatLayout {
         {
             found.push((i, Located::Frequency(line.frequency_hz)));
         }
-        let second = (self.rate_hz.round() as usize).max(1);
-        let slow_rate = self.rate_hz / second as f64;
-        if let (Some(i), Some(search)) =
-            (index("slow_line"), LineSearch::of(&block_means(x, second), slow_rate, Reach::Neighbours))
-        {
+        if let (Some(i), Some((search, slow_rate))) = (index("slow_line"), self.slow_line(x)) {
             found.push((i, Located::Frequency(search.bin as f64 * slow_rate / search.nfft as f64)));
         }
         if let (Some(i), Some(steps)) = (index("strongest_step"), StepScores::of(x, self.rate_hz)) {
@@ -645,16 +647,21 @@ mod tests {
         assert!(StatLayout::new(100, 10.0, 0.0, None, false).is_err());
     }
 
-    #[test]
-    fn a_sinusoid_is_a_spectral_line() {
-        let n = 8192;
-        let mut state = 7u64;
-        let noise: Vec<f64> = (0..n)
+    /// `n` uniform deviates in [−0.5, 0.5) from a seeded linear congruential generator.
+    fn uniform_noise(n: usize, seed: u64) -> Vec<f64> {
+        let mut state = seed;
+        (0..n)
             .map(|_| {
                 state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
                 (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn a_sinusoid_is_a_spectral_line() {
+        let n = 8192;
+        let noise = uniform_noise(n, 7);
         let with_line: Vec<f64> = noise.iter().enumerate().map(|(i, v)| v + 0.2 * (i as f64 * 0.9).sin()).collect();
         let psd = |x: &[f64]| welch(x, 10.0, 1024).unwrap().density;
         assert!(line_ratio(&psd(&with_line)) > 5.0 * line_ratio(&psd(&noise)));
@@ -665,14 +672,12 @@ mod tests {
     #[test]
     fn line_statistics_say_where_their_line_is() {
         let (fs, n) = (10.0, 40_000);
-        let mut state = 11u64;
-        let x: Vec<f64> = (0..n)
-            .map(|i| {
-                state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        let x: Vec<f64> = uniform_noise(n, 11)
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
                 let t = i as f64 / fs;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-                    + 0.1 * (std::f64::consts::TAU * 1.2 * t).sin()
-                    + 0.05 * (std::f64::consts::TAU * 0.05 * t).sin()
+                v + 0.1 * (std::f64::consts::TAU * 1.2 * t).sin() + 0.05 * (std::f64::consts::TAU * 0.05 * t).sin()
             })
             .collect();
         let layout = StatLayout::new(n, fs, 0.0, None, false).unwrap();
@@ -693,13 +698,8 @@ mod tests {
     #[test]
     fn the_strongest_step_is_located_in_time() {
         let (fs, n) = (10.0, 40_000);
-        let mut state = 3u64;
-        let x: Vec<f64> = (0..n)
-            .map(|i| {
-                state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5 + if i >= 15_000 { 0.2 } else { 0.0 }
-            })
-            .collect();
+        let x: Vec<f64> =
+            uniform_noise(n, 3).iter().enumerate().map(|(i, v)| v + if i >= 15_000 { 0.2 } else { 0.0 }).collect();
         let layout = StatLayout::new(n, fs, 100.0, None, false).unwrap();
         let step = layout.info().iter().position(|s| s.statistic == "strongest_step").unwrap();
         match layout.locate(&x).unwrap().at(step) {

@@ -150,12 +150,7 @@ impl SpectralTransform {
         let single = lowest_ordinates(&weighted, SINGLE_ORDINATES);
         let padded = (2 * n).next_power_of_two();
         let fft = Fft::new(padded).ok_or_else(|| SimgapError::Numerical(format!("no FFT of length {padded}")))?;
-        let mut transform = vec![Complex64::new(0.0, 0.0); padded];
-        for (z, &v) in transform.iter_mut().zip(&weighted) {
-            z.re = v;
-        }
-        fft.process(&mut transform);
-        Ok(SpectralTransform { len: n, norm, single, padded: transform })
+        Ok(SpectralTransform { len: n, norm, single, padded: fft.transform_real(&weighted) })
     }
 }
 
