@@ -80,6 +80,7 @@ pub(super) fn json_report<'a>(args: &'a SimgapArgs, d: &Diagnosis) -> JsonReport
             m.insert("gap_holdout_own_null".into(), e.own_null.as_ref().map(|v| v.hold.score.gap).into());
             m.insert("detector".into(), serde_json::to_value(&e.detector).unwrap_or(Value::Null));
             m.insert("nested".into(), serde_json::to_value(&e.nested).unwrap_or(Value::Null));
+            m.insert("supported".into(), e.supported.into());
             m.insert("log_score".into(), e.evaluation.as_ref().map(|v| v.mean_log_score()).into());
             m.insert("log_score_holdout".into(), e.evaluation.as_ref().map(|v| v.hold.score.log_score).into());
             m.insert("note".into(), e.note.clone().into());

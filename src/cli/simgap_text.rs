@@ -143,6 +143,10 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
     )?;
     writeln!(
         out,
+        "  (\"no evid.\": its nested test finds no more of it than recordings without it, nor does its detector: not a candidate)"
+    )?;
+    writeln!(
+        out,
         "  {:<13} {:>9} {:>9} {:>8} {:>8} {:>9}  params",
         "effect", "gap train", "gap hold", "share tr", "share ho", "accepted"
     )?;
@@ -160,10 +164,11 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
                     ev.hold.score.gap,
                     share(j.and_then(|j| j.share_train)),
                     share(j.and_then(|j| j.share_hold)),
-                    match (j.is_some_and(|j| j.explains), e.accepted_by_own_null()) {
-                        (true, _) => "yes",
-                        (false, true) => "own null",
-                        (false, false) => "no",
+                    match (e.supported, j.is_some_and(|j| j.explains), e.accepted_by_own_null()) {
+                        (false, _, _) => "no evid.",
+                        (true, true, _) => "yes",
+                        (true, false, true) => "own null",
+                        (true, false, false) => "no",
                     },
                     params.join(" ")
                 )?;

@@ -27,7 +27,9 @@ use super::effects::{TrainingData, fit_candidates};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
-use super::greedy::{OWN_NULL_LEVEL, combine, detector_test, judge, ramp_before_unbounded_warmup, removes_most};
+use super::greedy::{
+    OWN_NULL_LEVEL, combine, detector_test, judge, own_evidence, ramp_before_unbounded_warmup, removes_most,
+};
 use super::model::SimModel;
 use super::naming::naming_order;
 use super::nested::{NestedTest, gauss_markov_test};
@@ -189,6 +191,15 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                         n.significant()
                     );
                 }
+                // Against the baseline only: with a given simulator the step process' test is the
+                // recording's own question (above), not a comparison with the baseline.
+                let supported = own_evidence(baseline_terms.as_ref().and(nested.as_ref()), detector.as_ref());
+                if !supported {
+                    tracing::info!(
+                        "{}: no evidence of its own (nested test and detector), not a candidate",
+                        kind.name()
+                    );
+                }
                 EffectResult {
                     kind,
                     params: Some(effect.params.clone()),
@@ -199,6 +210,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                     own_null_judgement,
                     detector,
                     nested,
+                    supported,
                 }
             }
             Err(why) => EffectResult {
@@ -211,6 +223,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 own_null_judgement: None,
                 detector: None,
                 nested: None,
+                supported: false,
             },
         };
         effects.push(result);
@@ -236,7 +249,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         }
     }
     let ranked: Vec<(EffectKind, &Evaluation)> =
-        effects.iter().filter_map(|e| e.evaluation.as_ref().map(|ev| (e.kind, ev))).collect();
+        effects.iter().filter(|e| e.supported).filter_map(|e| e.evaluation.as_ref().map(|ev| (e.kind, ev))).collect();
     let found = |kind: EffectKind| fitted.iter().find_map(|(k, e)| (*k == kind).then_some(e));
     let own_null: Vec<EffectKind> = effects.iter().filter(|e| e.accepted_by_own_null()).map(|e| e.kind).collect();
     let combination = combine(&before, &ranked, &own_null, settings.min_share, settings.max_effects, |set| {

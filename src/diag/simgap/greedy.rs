@@ -29,6 +29,20 @@
 //! recorded temperature and looks like the start of a warm-up, so the other effects' filters pass
 //! by what the best one explains.
 //!
+//! **No evidence, no name** ([`own_evidence`]): the routes above all ask whether the effect's
+//! *simulation* narrows the gap, and a simulation can do that without the effect being there —
+//! the noise refitted around a fitted warm-up or Gauss–Markov process widens the ensemble's band
+//! on the hold-out part, or another cause's trajectory is partly covered. An effect whose own
+//! model comparison against the baseline (its nested test, [`super::nested`]) finds no more of it
+//! than the null recordings without it do on average (Λ ≤ the null members' mean), and whose
+//! matched filter does not stand out against its own null either, has no evidence of its own: it
+//! is no candidate. The bar is low (about half of the effect-free recordings pass it), so only an
+//! effect with no support at all goes. (Thirty-third session: on the independent generator's
+//! tuning sets every first effect it removed was a wrong name — bias steps named Gauss–Markov,
+//! temperature or warm-up, a temperature response or a steep-walk control named ramp — and no
+//! right one was lost; on the report sets a triangle wave is no longer named a warm-up, and one
+//! Gauss–Markov process that only the hold-out's gap showed is lost.)
+//!
 //! **Ranking**: by the mean of the training and hold-out Dawid–Sebastiani scores
 //! ([`super::gap::GapScore::log_score`], best first). The gap alone rewards an effect that only
 //! widens the band: random bias jumps or Poisson spikes simulated over the hold-out part make a
@@ -60,6 +74,7 @@
 use super::SimgapError;
 use super::ensemble::Evaluation;
 use super::gap::PartComparison;
+use super::nested::NestedTest;
 use super::params::EffectKind;
 use super::stats::StatInfo;
 use crate::model::normal::normal_quantile;
@@ -179,6 +194,13 @@ pub fn detector_test(
         .collect();
     let furthest = |a: &&DetectorTest, b: &&DetectorTest| a.z_null.abs().total_cmp(&b.z_null.abs());
     tests.iter().find(|t| t.passed).or_else(|| tests.iter().max_by(furthest)).cloned()
+}
+
+/// Whether an effect's own tests leave it a candidate (module docs, "no evidence, no name"): its
+/// detector test passed, or it has no nested test against the baseline, or that test's Λ exceeds
+/// the mean of its null members.
+pub fn own_evidence(nested: Option<&NestedTest>, detector: Option<&DetectorTest>) -> bool {
+    detector.is_some_and(|d| d.passed) || nested.is_none_or(|n| n.statistic > n.null_mean)
 }
 
 /// Share of the excess gap² that the kept effects must remove on every significant part of the
@@ -359,6 +381,39 @@ mod tests {
     fn evaluation(real: Vec<f64>) -> Evaluation {
         let (info, m) = (layout(), members());
         Evaluation { train: PartComparison::new(&info, real.clone(), &m), hold: PartComparison::new(&info, real, &m) }
+    }
+
+    /// An effect is a candidate when its matched filter stands out or its nested test finds more
+    /// of it than the null recordings do on average; with neither it is not, and an effect with
+    /// no nested test is judged by the gap alone.
+    #[test]
+    fn an_effect_without_evidence_of_its_own_is_no_candidate() {
+        let nested = |statistic: f64, null_mean: f64| NestedTest {
+            statistic,
+            null_zero_share: 0.0,
+            null_mean,
+            threshold: 10.0,
+            passed: statistic > 10.0,
+            outranked: false,
+        };
+        let detector = |passed: bool| DetectorTest {
+            statistic: "warmup_amplitude",
+            z_null: if passed { 4.0 } else { 0.3 },
+            z_model: 0.1,
+            z_null_holdout: None,
+            outranked: false,
+            passed,
+        };
+        assert!(own_evidence(None, None));
+        assert!(own_evidence(None, Some(&detector(false))));
+        assert!(own_evidence(Some(&nested(2.5, 2.0)), None));
+        assert!(!own_evidence(Some(&nested(1.5, 2.0)), None));
+        assert!(!own_evidence(Some(&nested(2.0, 2.0)), Some(&detector(false))));
+        assert!(own_evidence(Some(&nested(1.5, 2.0)), Some(&detector(true))));
+        // The step process' statistic is a difference of log-likelihoods: negative values compare
+        // the same way.
+        assert!(own_evidence(Some(&nested(-40.0, -50.0)), None));
+        assert!(!own_evidence(Some(&nested(-60.0, -50.0)), None));
     }
 
     /// Without a significant baseline gap nothing is combined, unless the effect was accepted

@@ -70,19 +70,25 @@ pub struct EffectResult {
     /// ([`super::nested`]), a temperature response ([`super::nested_temperature`]), a warm-up
     /// ([`super::nested_warmup`]) or a ramp ([`super::nested_ramp`]).
     pub nested: Option<NestedTest>,
+    /// Whether the effect's own tests leave it a candidate ([`super::greedy::own_evidence`]): false
+    /// when its model comparison against the baseline finds no more of it than a recording
+    /// without it typically shows and its matched filter does not stand out either. An effect
+    /// without that support is never kept, however much its simulation narrows the gap.
+    pub supported: bool,
 }
 
 impl EffectResult {
     /// Whether adding the effect is accepted against the baseline or against its own null.
     pub fn accepted(&self) -> bool {
-        self.judgement.is_some_and(|j| j.explains) || self.accepted_by_own_null()
+        self.supported && (self.judgement.is_some_and(|j| j.explains) || self.accepted_by_own_null())
     }
 
     /// Whether it is accepted against its own null ([`super::greedy`]).
     pub fn accepted_by_own_null(&self) -> bool {
-        self.own_null_judgement.is_some_and(|j| j.explains)
-            || self.detector.as_ref().is_some_and(|d| d.passed)
-            || self.nested.as_ref().is_some_and(|t| t.passed && !t.outranked)
+        self.supported
+            && (self.own_null_judgement.is_some_and(|j| j.explains)
+                || self.detector.as_ref().is_some_and(|d| d.passed)
+                || self.nested.as_ref().is_some_and(|t| t.passed && !t.outranked))
     }
 }
 
