@@ -72,8 +72,9 @@ pub struct EffectResult {
     pub nested: Option<NestedTest>,
     /// Whether the effect's own tests leave it a candidate ([`super::greedy::own_evidence`]): false
     /// when its model comparison against the baseline finds no more of it than a recording
-    /// without it typically shows and its matched filter does not stand out either. An effect
-    /// without that support is never kept, however much its simulation narrows the gap.
+    /// without it typically shows and its matched filter does not stand out either, and false for
+    /// an effect that is not applicable. An effect without that support is never kept, however
+    /// much its simulation narrows the gap.
     pub supported: bool,
 }
 
