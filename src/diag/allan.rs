@@ -17,6 +17,7 @@
 //! rounding (the golden test holds them to 1e-9 relative).
 
 use crate::diag::pairwise::{pairwise_sum, pairwise_sum_by};
+use crate::model::normal::normal_quantile;
 
 /// Which averaging times τ = m/f_s to evaluate (the `taus=` argument of allantools).
 #[derive(Debug, Clone, PartialEq)]
@@ -145,54 +146,10 @@ impl AllanDeviation {
     }
 }
 
-/// Quantile of the standard normal distribution at probability `p` ∈ (0, 1) (Acklam's rational
-/// approximation, relative error < 1.2e-9); ±∞ at 0 and 1, NaN outside.
-pub fn normal_quantile(p: f64) -> f64 {
-    const A: [f64; 6] = [
-        -3.969683028665376e1,
-        2.209460984245205e2,
-        -2.759285104469687e2,
-        1.38357751867269e2,
-        -3.066479806614716e1,
-        2.506628277459239,
-    ];
-    const B: [f64; 5] =
-        [-5.447609879822406e1, 1.615858368580409e2, -1.556989798598866e2, 6.680131188771972e1, -1.328068155288572e1];
-    const C: [f64; 6] = [
-        -7.784894002430293e-3,
-        -3.223964580411365e-1,
-        -2.400758277161838,
-        -2.549732539343734,
-        4.374664141464968,
-        2.938163982698783,
-    ];
-    const D: [f64; 4] = [7.784695709041462e-3, 3.224671290700398e-1, 2.445134137142996, 3.754408661907416];
-    if !(0.0..=1.0).contains(&p) {
-        return f64::NAN;
-    }
-    if p == 0.0 || p == 1.0 {
-        return if p == 0.0 { f64::NEG_INFINITY } else { f64::INFINITY };
-    }
-    let tail = |q: f64| {
-        let u = (-2.0 * q.ln()).sqrt();
-        (((((C[0] * u + C[1]) * u + C[2]) * u + C[3]) * u + C[4]) * u + C[5])
-            / ((((D[0] * u + D[1]) * u + D[2]) * u + D[3]) * u + 1.0)
-    };
-    if p < 0.02425 {
-        tail(p)
-    } else if p > 1.0 - 0.02425 {
-        -tail(1.0 - p)
-    } else {
-        let q = p - 0.5;
-        let r = q * q;
-        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
-            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
-    }
-}
-
 /// Quantile of the χ² distribution with ν > 0 degrees of freedom at probability `p` ∈ (0, 1):
 /// exact for ν = 1 (the square of a normal quantile) and ν = 2 (an exponential), the
-/// Wilson–Hilferty cube approximation otherwise (under 1 % off for ν ≥ 3 at 2.5–97.5 %).
+/// Wilson–Hilferty cube approximation otherwise (under 1 % off for ν ≥ 3 at 2.5–97.5 %); the
+/// normal quantile is [`normal_quantile`].
 pub fn chi_square_quantile(p: f64, nu: f64) -> f64 {
     if nu == 1.0 {
         let z = normal_quantile((1.0 + p) / 2.0);

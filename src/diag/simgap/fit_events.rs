@@ -46,7 +46,8 @@
 
 use super::params::{EffectParams, Fitted, FittedEffect};
 use super::robust::{block_means, kurtosis, mad_sigma, median};
-use crate::diag::allan::{chi_square_quantile, normal_quantile};
+use crate::diag::allan::chi_square_quantile;
+use crate::model::normal::normal_quantile;
 
 /// Threshold of a candidate jump, robust σ of the window difference (module docs).
 pub const JUMP_SIGMAS: f64 = 3.5;
