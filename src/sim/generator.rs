@@ -170,6 +170,13 @@ impl AxisTerms {
     }
 }
 
+/// The bounds `(start, end)` of the inner blocks of at most [`CHUNK`] samples that `len` samples
+/// are simulated in, in order (both [`Generator::fill`] and [`AxisGenerator::fill`] walk them, so
+/// a run splits at the same samples whichever simulates it).
+fn chunk_bounds(len: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..len).step_by(CHUNK).map(move |start| (start, (start + CHUNK).min(len)))
+}
+
 struct ChunkOut<'a> {
     raw: &'a mut [f64],
     drift: &'a mut [f64],
@@ -247,9 +254,7 @@ impl Generator {
         for (i, t) in out.t_s.iter_mut().enumerate() {
             *t = (self.next + i as u64) as f64 / self.rate_hz;
         }
-        let mut start = 0;
-        while start < len {
-            let end = (start + CHUNK).min(len);
+        for (start, end) in chunk_bounds(len) {
             let n = end - start;
             let t_s = &out.t_s[start..end];
             let temp_true = &mut self.temp_true[..n];
@@ -262,7 +267,6 @@ impl Generator {
                 };
                 axis.fill(t_s, temp_true, chunk, &mut self.sum[..n]);
             }
-            start = end;
         }
         self.next += len as u64;
     }
@@ -289,9 +293,7 @@ impl AxisGenerator {
     pub fn fill(&mut self, len: usize, raw: &mut Vec<f64>) {
         raw.resize(len, 0.0);
         let mut t_s = [0.0; CHUNK];
-        let mut start = 0;
-        while start < len {
-            let end = (start + CHUNK).min(len);
+        for (start, end) in chunk_bounds(len) {
             let n = end - start;
             for (i, t) in t_s[..n].iter_mut().enumerate() {
                 *t = (self.next + (start + i) as u64) as f64 / self.rate_hz;
@@ -300,7 +302,6 @@ impl AxisGenerator {
             let chunk =
                 ChunkOut { raw: &mut raw[start..end], drift: &mut self.drift[..n], white: &mut self.white[..n] };
             self.generator.fill(&t_s[..n], &self.temp_true[..n], chunk, &mut self.sum[..n]);
-            start = end;
         }
         self.next += len as u64;
     }
