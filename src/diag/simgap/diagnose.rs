@@ -28,7 +28,8 @@ use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
 use super::greedy::{
-    OWN_NULL_LEVEL, combine, detector_test, judge, own_evidence, ramp_before_unbounded_warmup, removes_most,
+    OWN_NULL_LEVEL, combine, detector_test, judge, outrank_all_but_best_candidate, own_evidence,
+    ramp_before_unbounded_warmup, removes_most,
 };
 use super::model::SimModel;
 use super::naming::naming_order;
@@ -237,17 +238,19 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         _ => false,
     };
     ramp_before_unbounded_warmup(&mut effects, |e| e.kind, unbounded);
-    // The detector route names only the best-ranked effect: a slow bias motion also correlates
-    // with the temperature, or looks like the start of a warm-up, so a matched filter of another
-    // effect may pass by what the best one explains.
-    for effect in effects.iter_mut().skip(1) {
-        if let Some(test) = &mut effect.detector {
-            test.outranked();
-        }
-        if let Some(test) = &mut effect.nested {
-            test.outranked = true;
-        }
-    }
+    // The detector and nested routes count only for the best-ranked candidate (greedy.rs).
+    outrank_all_but_best_candidate(
+        &mut effects,
+        |e| e.supported,
+        |e| {
+            if let Some(test) = &mut e.detector {
+                test.outranked();
+            }
+            if let Some(test) = &mut e.nested {
+                test.outranked = true;
+            }
+        },
+    );
     let ranked: Vec<(EffectKind, &Evaluation)> =
         effects.iter().filter(|e| e.supported).filter_map(|e| e.evaluation.as_ref().map(|ev| (e.kind, ev))).collect();
     let found = |kind: EffectKind| fitted.iter().find_map(|(k, e)| (*k == kind).then_some(e));

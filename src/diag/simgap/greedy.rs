@@ -41,7 +41,9 @@
 //! tuning sets every first effect it removed was a wrong name — bias steps named Gauss–Markov,
 //! temperature or warm-up, a temperature response or a steep-walk control named ramp — and no
 //! right one was lost; on the report sets a triangle wave is no longer named a warm-up, and one
-//! Gauss–Markov process that only the hold-out's gap showed is lost.)
+//! Gauss–Markov process that only the hold-out's gap showed is lost.) Nor does such an effect
+//! outrank another: "ranks first" above means first among the candidates (thirty-fourth
+//! session), since an effect that can never be kept cannot be what another's filter passed by.
 //!
 //! **Ranking**: by the mean of the training and hold-out Dawid–Sebastiani scores
 //! ([`super::gap::GapScore::log_score`], best first). The gap alone rewards an effect that only
@@ -265,6 +267,24 @@ pub fn ramp_before_unbounded_warmup<T>(
     }
 }
 
+/// Marks the detector and nested tests of every effect of `ranked` (best first) as outranked
+/// (`outrank`) except those of the best-ranked candidate, the first for which `candidate` holds
+/// (module docs: a slow bias motion also correlates with the temperature or looks like the start
+/// of a warm-up, so another effect's matched filter may pass by what the best one explains; an
+/// effect without evidence of its own, never kept, explains nothing and outranks nothing).
+pub fn outrank_all_but_best_candidate<T>(
+    ranked: &mut [T],
+    candidate: impl Fn(&T) -> bool,
+    mut outrank: impl FnMut(&mut T),
+) {
+    let best = ranked.iter().position(&candidate);
+    for (i, effect) in ranked.iter_mut().enumerate() {
+        if Some(i) != best {
+            outrank(effect);
+        }
+    }
+}
+
 /// The outcome of the greedy combination.
 #[derive(Debug, Clone)]
 pub struct Combination {
@@ -352,6 +372,24 @@ mod tests {
                 x: 0.0,
             })
             .collect()
+    }
+
+    #[test]
+    fn only_the_best_ranked_candidate_keeps_its_own_routes() {
+        // (kind, candidate, outranked), best first.
+        let outcome = |ranked: &[(EffectKind, bool)]| {
+            let mut v: Vec<(EffectKind, bool, bool)> = ranked.iter().map(|&(k, c)| (k, c, false)).collect();
+            outrank_all_but_best_candidate(&mut v, |e| e.1, |e| e.2 = true);
+            v.iter().filter(|e| !e.2).map(|e| e.0).collect::<Vec<_>>()
+        };
+        use EffectKind::*;
+        assert_eq!(outcome(&[(Warmup, true), (Temperature, true), (Ramp, true)]), vec![Warmup]);
+        // A first-ranked effect without evidence of its own outranks nothing: the next one keeps
+        // its detector and nested routes, and the unsupported one is marked too.
+        assert_eq!(outcome(&[(Warmup, false), (Temperature, true), (Ramp, true)]), vec![Temperature]);
+        assert_eq!(outcome(&[(Warmup, false), (Temperature, false), (Ramp, true)]), vec![Ramp]);
+        assert_eq!(outcome(&[(Warmup, false), (Ramp, false)]), Vec::<EffectKind>::new());
+        assert_eq!(outcome(&[]), Vec::<EffectKind>::new());
     }
 
     #[test]
