@@ -8,7 +8,7 @@ pub const MIN_PROBABILITY: f64 = 1e-12;
 /// Φ⁻¹(p), the standard normal quantile, for 0 < p < 1: P. J. Acklam's rational approximation
 /// (relative error < 1.15e-9), refined by one Halley step on Φ(x) = erfc(−x/√2)/2 with `libm`'s
 /// erfc (the FreeBSD msun port, within an ulp or two), which brings it to about machine precision
-/// (within 1e-14 of scipy's `norm.ppf` from 1e-12 to 1 − 1e-6; test below). The step needs an erfc
+/// (within 1e-14 of scipy's `norm.ppf` from 1e-12 to 0.975; test below). The step needs an erfc
 /// that accurate: with a single-precision one (Numerical Recipes' `erfcc`, relative error 1.2e-7)
 /// it made the quantile thirty times *worse* than Acklam's alone.
 pub fn normal_quantile(p: f64) -> f64 {
