@@ -17,7 +17,7 @@
 //! rounding (the golden test holds them to 1e-9 relative).
 
 use crate::diag::pairwise::{pairwise_sum, pairwise_sum_by};
-use crate::model::normal::normal_quantile;
+use crate::model::normal::chi2_upper;
 
 /// Which averaging times τ = m/f_s to evaluate (the `taus=` argument of allantools).
 #[derive(Debug, Clone, PartialEq)]
@@ -140,27 +140,11 @@ impl AllanDeviation {
             .iter()
             .zip(self.dof())
             .map(|(&d, nu)| {
-                (d * (nu / chi_square_quantile(p_hi, nu)).sqrt(), d * (nu / chi_square_quantile(p_lo, nu)).sqrt())
+                // The p_hi quantile is exceeded with probability p_lo, and the other way round.
+                (d * (nu / chi2_upper(nu, p_lo)).sqrt(), d * (nu / chi2_upper(nu, p_hi)).sqrt())
             })
             .collect()
     }
-}
-
-/// Quantile of the χ² distribution with ν > 0 degrees of freedom at probability `p` ∈ (0, 1):
-/// exact for ν = 1 (the square of a normal quantile) and ν = 2 (an exponential), the
-/// Wilson–Hilferty cube approximation otherwise (under 1 % off for ν ≥ 3 at 2.5–97.5 %); the
-/// normal quantile is [`normal_quantile`].
-pub fn chi_square_quantile(p: f64, nu: f64) -> f64 {
-    if nu == 1.0 {
-        let z = normal_quantile((1.0 + p) / 2.0);
-        return z * z;
-    }
-    if nu == 2.0 {
-        return -2.0 * (1.0 - p).ln();
-    }
-    let s = 2.0 / (9.0 * nu);
-    let c = 1.0 - s + normal_quantile(p) * s.sqrt();
-    nu * c.max(1e-6).powi(3)
 }
 
 /// Why the Allan deviation could not be computed.
@@ -360,13 +344,6 @@ mod tests {
 
     #[test]
     fn chi_square_quantiles_and_bands() {
-        assert!((normal_quantile(0.975) - 1.959_964).abs() < 1e-6);
-        assert!((normal_quantile(0.5)).abs() < 1e-12);
-        // Tables: χ²(1) 0.975 → 5.024; χ²(2) 0.025 → 0.0506; χ²(10) 0.025/0.975 → 3.247/20.483.
-        assert!((chi_square_quantile(0.975, 1.0) - 5.0239).abs() < 1e-3);
-        assert!((chi_square_quantile(0.025, 2.0) - 0.05064).abs() < 1e-4);
-        assert!((chi_square_quantile(0.025, 10.0) / 3.2470 - 1.0).abs() < 0.01);
-        assert!((chi_square_quantile(0.975, 10.0) / 20.483 - 1.0).abs() < 0.01);
         let x: Vec<f64> = (0..4096).map(|k| ((k * 7919) % 101) as f64).collect();
         let a = oadev(&x, 1.0, &Taus::Octave).unwrap();
         assert_eq!(a.dof()[0], 4095.0);
@@ -377,6 +354,11 @@ mod tests {
         // Relative width falls with ν: widest at the longest τ.
         let rel: Vec<f64> = band.iter().zip(&a.adev).map(|((lo, hi), d)| (hi - lo) / d).collect();
         assert!(rel.first() < rel.last());
+        // m = 256: ν = 15; scipy.stats.chi2.isf(0.1585, 15) and chi2.isf(0.8415, 15).
+        assert_eq!((a.m[8], a.dof()[8]), (256, 15.0));
+        let (lo, hi) = band[8];
+        assert!((lo / (a.adev[8] * (15.0 / 20.361_480_284_718_475f64).sqrt()) - 1.0).abs() < 1e-12);
+        assert!((hi / (a.adev[8] * (15.0 / 9.644_267_220_957_815f64).sqrt()) - 1.0).abs() < 1e-12);
     }
 
     #[test]

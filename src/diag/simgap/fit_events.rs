@@ -46,8 +46,7 @@
 
 use super::params::{EffectParams, Fitted, FittedEffect};
 use super::robust::{block_means, kurtosis, mad_sigma, median};
-use crate::diag::allan::chi_square_quantile;
-use crate::model::normal::normal_quantile;
+use crate::model::normal::{chi2_upper, normal_quantile};
 
 /// Threshold of a candidate jump, robust σ of the window difference (module docs).
 pub const JUMP_SIGMAS: f64 = 3.5;
@@ -409,7 +408,7 @@ fn time_dispersion(at: &[usize], len: usize) -> (f64, f64) {
     }
     let mean = at.len() as f64 / SPIKE_SEGMENTS as f64;
     let dispersion = counts.iter().map(|c| (c - mean) * (c - mean)).sum::<f64>() / mean;
-    (dispersion, chi_square_quantile(1.0 - SPIKE_CLUSTER_LEVEL, (SPIKE_SEGMENTS - 1) as f64))
+    (dispersion, chi2_upper((SPIKE_SEGMENTS - 1) as f64, SPIKE_CLUSTER_LEVEL))
 }
 
 /// The spike threshold for a part of `n` samples, robust σ of the median residual (module docs):
@@ -729,9 +728,8 @@ mod tests {
         let even: Vec<usize> = (0..100).map(|i| i * 10).collect();
         let (dispersion, limit) = time_dispersion(&even, 1_000);
         assert!(dispersion.abs() < 1e-12);
-        // χ²₉ at 1 − 10⁻⁴ is 33.72 (scipy.stats.chi2.ppf); Wilson–Hilferty gives 34.15 this far
-        // out in the tail, 1.3 % above: a slightly stricter test.
-        assert!((limit - 33.72).abs() < 0.03 * 33.72 && limit >= 33.72, "{limit}");
+        // χ²₉ exceeded with probability 10⁻⁴ (scipy.stats.chi2.isf(1e-4, 9)).
+        assert!((limit / 33.719_948_438_964_636 - 1.0).abs() < 1e-12, "{limit}");
         // All in one segment: (n − n/10)²/(n/10) + 9 (n/10) = 9 n.
         let (dispersion, _) = time_dispersion(&[5; 20], 1_000);
         assert!((dispersion - 180.0).abs() < 1e-9, "{dispersion}");
