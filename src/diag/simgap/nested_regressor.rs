@@ -21,7 +21,7 @@ use super::nested::{NESTED_LEVEL, NestedTest};
 use super::whittle::{
     COLUMNS, CrossPeriodogram, NOISE_COLUMNS, WhittleFit, coefficients_of, columns, fit, spectral_density, terms_of,
 };
-use crate::model::normal::normal_quantile;
+use crate::model::normal::chi2_upper;
 
 /// Alternations of the coefficient and the noise terms at most.
 const MAX_ALTERNATIONS: usize = 30;
@@ -99,8 +99,7 @@ pub fn regressor_gain_from(spectra: &CrossPeriodogram, plain: &PlainFit, dt: f64
 pub fn judge_chi_square(statistic: f64, null: &[f64]) -> NestedTest {
     let null_zero_share = null.iter().filter(|&&s| s <= 0.0).count() as f64 / null.len().max(1) as f64;
     let null_mean = null.iter().sum::<f64>() / null.len().max(1) as f64;
-    let z = normal_quantile(1.0 - 0.5 * (1.0 - NESTED_LEVEL));
-    let threshold = null_mean.max(1.0) * z * z;
+    let threshold = null_mean.max(1.0) * chi2_upper(1.0, 1.0 - NESTED_LEVEL);
     NestedTest { statistic, null_zero_share, null_mean, threshold, passed: statistic > threshold, outranked: false }
 }
 

@@ -34,7 +34,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{Decision, DetectorCounters, DetectorInput, DetectorState, MotionDetector};
-use crate::model::normal::{MIN_PROBABILITY, chi2_upper, two_sided_z};
+use crate::model::normal::{MIN_PROBABILITY, chi2_upper};
 
 /// Longest window, settle or guard span, samples (longer ones are cut to it: at 1 kHz 17 min).
 pub const MAX_WINDOW_SAMPLES: usize = 1 << 20;
@@ -229,11 +229,9 @@ impl StatisticalState {
 impl StatisticalDetector {
     /// A detector whose windows are sized once [`MotionDetector::set_period`] is called.
     pub fn new(config: StatisticalConfig) -> Self {
-        let z = two_sided_z(config.false_alarm);
-        let zr = two_sided_z(config.false_alarm.sqrt());
         Self {
-            z2: z * z,
-            z2_relaxed: zr * zr,
+            z2: chi2_upper(1.0, config.false_alarm),
+            z2_relaxed: chi2_upper(1.0, config.false_alarm.sqrt()),
             config,
             windows: Vec::new(),
             variance_window: 0,
