@@ -35,6 +35,7 @@ use crate::diag::allan::{AllanDeviation, Taus, oadev_with_max_m};
 use crate::diag::noise_fit::{NoiseFit, Weighting, fit_allan};
 use crate::diag::noise_model::{NoiseModel, TERMS};
 use crate::model::metrics::quantile_sorted;
+use crate::sim::config::{ARW_DEG_RT_H_PER_DEG_RT_S, RRW_DEG_H_RT_H_PER_DPS_RT_S};
 use crate::sim::{AxisConfig, BiasInstability, ConfigError, Generator, SimConfig};
 
 /// Default number of bootstrap replicates (`gyrocomp allan --ci-draws`).
@@ -128,13 +129,13 @@ fn replicate_config(model: &NoiseModel, allan: &AllanDeviation) -> Result<SimCon
     let (tau_first, tau_last) =
         (allan.tau_s.first().copied().unwrap_or(1.0), allan.tau_s.last().copied().unwrap_or(1.0));
     let axis = AxisConfig {
-        arw_deg_rt_h: positive(model.n * 60.0),
+        arw_deg_rt_h: positive(model.n * ARW_DEG_RT_H_PER_DEG_RT_S),
         bias_instability: positive(model.b * 3600.0).map(|b_deg_h| BiasInstability::Flicker {
             b_deg_h,
             floor_from_s: tau_first,
             floor_to_s: tau_last.max(tau_first * 4.0),
         }),
-        rrw_deg_h_rt_h: positive(model.k * 216_000.0),
+        rrw_deg_h_rt_h: positive(model.k * RRW_DEG_H_RT_H_PER_DPS_RT_S),
         ramp_deg_h2: positive(model.r * 3600.0 * 3600.0),
         ..AxisConfig::default()
     };

@@ -25,6 +25,12 @@ use serde::{Deserialize, Serialize};
 /// Seconds per hour.
 const S_PER_H: f64 = 3600.0;
 
+/// Angle random walk: deg/√h (the config's `arw_deg_rt_h`) per deg/√s (√3600).
+pub const ARW_DEG_RT_H_PER_DEG_RT_S: f64 = 60.0;
+
+/// Rate random walk: deg/h/√h (the config's `rrw_deg_h_rt_h`) per deg/s/√s (3600 · √3600).
+pub const RRW_DEG_H_RT_H_PER_DPS_RT_S: f64 = S_PER_H * ARW_DEG_RT_H_PER_DEG_RT_S;
+
 /// A configuration that cannot be simulated.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ConfigError {
@@ -309,12 +315,12 @@ impl AxisConfig {
 
     /// ARW N in deg/√s (0 when absent).
     pub fn arw_deg_rt_s(&self) -> f64 {
-        self.arw_deg_rt_h.unwrap_or(0.0) / 60.0
+        self.arw_deg_rt_h.unwrap_or(0.0) / ARW_DEG_RT_H_PER_DEG_RT_S
     }
 
     /// RRW K in deg/s/√s (0 when absent).
     pub fn rrw_dps_rt_s(&self) -> f64 {
-        self.rrw_deg_h_rt_h.unwrap_or(0.0) / (S_PER_H * 60.0)
+        self.rrw_deg_h_rt_h.unwrap_or(0.0) / RRW_DEG_H_RT_H_PER_DPS_RT_S
     }
 
     /// Rate ramp R in deg/s² (0 when absent).

@@ -21,6 +21,7 @@ use super::model::SimModel;
 use super::robust_allan::robust_oadev;
 use crate::diag::allan::AllanDeviation;
 use crate::diag::noise_fit::{TermFit, Weighting, fit_terms};
+use crate::sim::config::{ARW_DEG_RT_H_PER_DEG_RT_S, RRW_DEG_H_RT_H_PER_DPS_RT_S};
 use crate::sim::terms::flicker_poles;
 use crate::sim::theory::gauss_markov_avar;
 use crate::sim::{AxisConfig, BiasInstability};
@@ -62,7 +63,7 @@ pub struct NoiseTerms {
 impl NoiseTerms {
     /// N in the datasheet's deg/√h (the simulator config's `arw_deg_rt_h`).
     pub fn n_deg_rt_h(&self) -> f64 {
-        self.n * 60.0
+        self.n * ARW_DEG_RT_H_PER_DEG_RT_S
     }
 
     /// B in the datasheet's deg/h (the simulator config's `b_deg_h`).
@@ -72,7 +73,7 @@ impl NoiseTerms {
 
     /// K in the datasheet's deg/h/√h (the simulator config's `rrw_deg_h_rt_h`): 3600 · 60.
     pub fn k_deg_h_rt_h(&self) -> f64 {
-        self.k * 216_000.0
+        self.k * RRW_DEG_H_RT_H_PER_DPS_RT_S
     }
 
     /// The simulator model of these terms for a recording of `total_s` seconds at `rate_hz` with

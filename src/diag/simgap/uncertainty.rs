@@ -35,9 +35,7 @@ use super::SimgapError;
 use super::baseline::{NoiseTerms, fit_noise_terms};
 use super::model::{SimModel, member_seed, simulate};
 use crate::model::rng::splitmix64;
-
-/// K in deg/h/√h per deg/s/√s (the simulator config's unit, [`NoiseTerms::k_deg_h_rt_h`]).
-const K_DEG_H_RT_H: f64 = 216_000.0;
+use crate::sim::config::{ARW_DEG_RT_H_PER_DEG_RT_S, RRW_DEG_H_RT_H_PER_DPS_RT_S};
 
 /// Mixed into the seed so the bootstrap's series differ from the ensemble's.
 const BOOTSTRAP_SEED: u64 = 0x0B00_7577;
@@ -52,7 +50,7 @@ fn squares(t: &NoiseTerms) -> [f64; 3] {
 
 /// One perturbation per member: refits of `members` simulated training parts of `terms`'s model
 /// (`n_train` samples at `rate_hz`, flicker floor to `total_s`), minus `terms`; K² only where
-/// `terms.k` is zero.
+/// `terms.k` is zero and the rate ramp `terms.r` is not.
 pub fn bootstrap(
     terms: &NoiseTerms,
     rate_hz: f64,
@@ -82,9 +80,12 @@ pub fn perturbed(model: &SimModel, delta: &Perturbation) -> SimModel {
     let mut m = model.clone();
     let shift = |v: f64, scale: f64, d: f64| ((v / scale).powi(2) + d).max(0.0).sqrt() * scale;
     m.angle_noise_q_deg = shift(m.angle_noise_q_deg, 1.0, delta[0]);
-    m.axis.arw_deg_rt_h = Some(shift(m.axis.arw_deg_rt_h.unwrap_or(0.0), 60.0, delta[1]));
+    m.axis.arw_deg_rt_h = Some(shift(m.axis.arw_deg_rt_h.unwrap_or(0.0), ARW_DEG_RT_H_PER_DEG_RT_S, delta[1]));
+    // K is drawn only where it was fitted at zero beside a ramp (`bootstrap`); elsewhere the walk
+    // is left exactly as fitted, not round-tripped through the square root.
     if delta[2] != 0.0 {
-        m.axis.rrw_deg_h_rt_h = Some(shift(m.axis.rrw_deg_h_rt_h.unwrap_or(0.0), K_DEG_H_RT_H, delta[2]));
+        m.axis.rrw_deg_h_rt_h =
+            Some(shift(m.axis.rrw_deg_h_rt_h.unwrap_or(0.0), RRW_DEG_H_RT_H_PER_DPS_RT_S, delta[2]));
     }
     m
 }

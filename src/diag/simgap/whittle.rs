@@ -457,6 +457,7 @@ mod tests {
     use super::*;
     use crate::diag::simgap::model::{SimModel, simulate};
     use crate::sim::AxisConfig;
+    use crate::sim::config::{ARW_DEG_RT_H_PER_DEG_RT_S, RRW_DEG_H_RT_H_PER_DPS_RT_S};
 
     /// The table-driven transform at the lowest Fourier frequencies equals the direct sums
     /// Σ vⱼ·(cos, sin)(2πkj/n) to rounding, on a length that is not a power of two.
@@ -539,8 +540,8 @@ mod tests {
         let (n, k) = (0.03, 4e-4);
         let model = SimModel {
             axis: AxisConfig {
-                arw_deg_rt_h: Some(n * 60.0),
-                rrw_deg_h_rt_h: Some(k * 216_000.0),
+                arw_deg_rt_h: Some(n * ARW_DEG_RT_H_PER_DEG_RT_S),
+                rrw_deg_h_rt_h: Some(k * RRW_DEG_H_RT_H_PER_DPS_RT_S),
                 ..AxisConfig::default()
             },
             ..SimModel::default()
