@@ -284,7 +284,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     // the effects were added in.
     let chosen = if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) {
         let first_alone = first_tried.and_then(|e| e.evaluation.as_ref()).unwrap_or(&before);
-        naming_order(&before, first_alone, &tried)
+        naming_order(&before, first_alone, &tried, |k| found(k).map(|e| &e.params))
     } else {
         Vec::new()
     };
