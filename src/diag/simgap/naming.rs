@@ -1,33 +1,31 @@
 //! Which of the chosen effects is named first (issue 16: "the dominant cause named").
 //!
-//! The greedy combination ([`super::greedy`]) adds effects in the order of their score over
-//! every statistic group. That order is right for *explaining the gap*, but not for naming what a
-//! user of a drift compensator means by the main cause: a few spikes, or a quantiser, move the
+//! The greedy combination ([`super::greedy`]) adds effects in the order of their score over every
+//! statistic group. That order is right for *explaining the gap*, but not for naming what a user of
+//! a drift compensator means by the main cause: a few spikes, or a quantiser, move the
 //! distribution, short-τ Allan and spectrum groups by many standard deviations and so are added
 //! first, while the bias motion an INS integrates (a warm-up, a ramp, a slow oscillation) shows in
 //! the drift groups ([`DRIFT_GROUPS`]). So when the first effect added only changes the sample
 //! distribution ([`distribution_only`]: spikes, a quantiser), another chosen effect is a bias
 //! motion with its own signature ([`bias_motion`]: a warm-up, a temperature response, a ramp, a
-//! sinusoid slower than [`SLOWEST_VIBRATION_HZ`], bias steps), and a gap in the drift groups
-//! (their worst standard score beyond the [`DRIFT_LEVEL`] normal quantile) is left both by the
-//! baseline and by the first effect alone,
-//! the first such bias motion in the order added is named first; otherwise the order is the
-//! combination's. Large spikes move the drift groups too (a spike of ten times the per-sample
-//! noise is a step of one in a 1 s mean), so the baseline's drift gap alone does not say a bias
-//! moved: once the spikes are simulated, a drift gap that is theirs is gone, and a bias motion
-//! then kept beside them by a small further gain (a ramp of a few deg/h², fresh report seeds
-//! 3095 and 3097) is not the cause (twenty-second session; before, such spikes were named after
-//! it). A Gauss–Markov process is not
-//! promoted: correlated noise is also what soaks up the mid-τ Allan excess that large spikes
-//! leave (a spikes case of the self-test was named gauss_markov that way). Between two bias
-//! motions the order stays the combination's: a leave-one-out comparison of their drift scores
-//! was tried and reordered pairs such as a ramp with small bias steps at random
-//! (docs/evaluation.md).
+//! sinusoid slower than [`SLOWEST_VIBRATION_HZ`], bias steps), and a gap in the drift groups (their
+//! worst standard score beyond the [`DRIFT_LEVEL`] normal quantile) is left both by the baseline
+//! and by the first effect alone, the first such bias motion in the order added is named first;
+//! otherwise the order is the combination's. Large spikes move the drift groups too (a spike of ten
+//! times the per-sample noise is a step of one in a 1 s mean), so the baseline's drift gap alone
+//! does not say a bias moved: once the spikes are simulated, a drift gap that is theirs is gone,
+//! and a bias motion then kept beside them by a small further gain (a ramp of a few deg/h², fresh
+//! report seeds 3095 and 3097) is not the cause (twenty-second session; before, such spikes were
+//! named after it). A Gauss–Markov process is not promoted: correlated noise is also what soaks up
+//! the mid-τ Allan excess that large spikes leave (a spikes case of the self-test was named
+//! gauss_markov that way). Between two bias motions the order stays the combination's: a
+//! leave-one-out comparison of their drift scores was tried and reordered pairs such as a ramp with
+//! small bias steps at random (docs/evaluation.md).
 
 use super::ensemble::Evaluation;
 use super::gap::PartComparison;
 use super::params::{EffectKind, EffectParams};
-use super::stats::Group;
+use super::stats::{ALLAN_SHORT_BELOW_S, Group};
 use crate::model::normal::normal_quantile;
 
 /// The statistic groups that describe the drift: the Allan deviation from 1 s up, the strongest
@@ -65,9 +63,9 @@ pub fn distribution_only(kind: EffectKind) -> bool {
 }
 
 /// Fastest sinusoid that counts as a bias motion, Hz: a period of the drift groups' shortest
-/// averaging time (1 s, [`Group::AllanMid`]'s lower bound). A faster line is a vibration, which
-/// an INS integrates to nothing.
-pub const SLOWEST_VIBRATION_HZ: f64 = 1.0;
+/// averaging time (`stats::ALLAN_SHORT_BELOW_S`, [`Group::AllanMid`]'s lower bound). A faster line
+/// is a vibration, which an INS integrates to nothing.
+pub const SLOWEST_VIBRATION_HZ: f64 = 1.0 / ALLAN_SHORT_BELOW_S;
 
 /// Whether a fitted effect is a motion of the bias with a signature of its own (not correlated
 /// noise): a warm-up, a temperature response, a ramp, bias steps, or a sinusoid slower than

@@ -72,7 +72,7 @@ const TRAJECTORY_BLOCKS: usize = 10;
 /// Early blocks of growing length: [N/2^(k+1), N/2^k) for k from 6 down to 2, and [0, N/64).
 const EARLY_BLOCKS: u32 = 6;
 /// Boundaries of the Allan groups, s.
-const ALLAN_SHORT_BELOW_S: f64 = 1.0;
+pub(super) const ALLAN_SHORT_BELOW_S: f64 = 1.0;
 const ALLAN_LONG_ABOVE_S: f64 = 100.0;
 
 /// The group of a statistic. The scalar gap averages |z| within each group, then over the groups,
