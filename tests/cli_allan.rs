@@ -90,6 +90,34 @@ fn default_column_rate_from_time_and_all_taus() {
     assert!(adev.iter().zip(&lib.adev).all(|(a, b)| close(*a, *b, 1e-12)));
 }
 
+/// A dropout (a stretch of the time column with no samples) neither lowers the sample rate nor
+/// passes unremarked: the rate is the stamps' own, and a warning names the file, the sample
+/// before the gap, its time and the samples missing.
+#[test]
+fn a_dropout_keeps_the_rate_and_is_named_in_a_warning() {
+    let x = series(3000);
+    let mut file = tempfile::Builder::new().suffix(".csv").tempfile().expect("tempfile");
+    writeln!(file, "t_s,gx_dps").unwrap();
+    // 20 Hz; samples 1,000..1,250 (12.5 s) missing.
+    for (k, v) in x.iter().enumerate().filter(|(k, _)| !(1_000..1_250).contains(k)) {
+        writeln!(file, "{:?},{:?}", k as f64 / 20.0, v).unwrap();
+    }
+    file.flush().unwrap();
+    let path = file.path().to_str().unwrap();
+    let out = gyrocomp(&["allan", path, "--json"]);
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rate = json["rate_hz"].as_f64().unwrap();
+    // From the first and last stamps alone it would be 2,749 / 149.95 s = 18.3 Hz.
+    assert!(close(rate, 20.0, 1e-9), "rate {rate}");
+    assert_eq!(json["samples"].as_u64(), Some(2_750));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let warning = format!(
+        "{path}: 1 dropout(s), 250 samples missing in all: after sample 999 (t = 49.950 s, 12.550 s to the next)"
+    );
+    assert!(stderr.contains("WARN") && stderr.contains(&warning), "stderr: {stderr}");
+}
+
 #[test]
 fn table_output_names_the_terms_in_both_units() {
     let csv = write_csv(&series(1000), 10.0);

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::io::{InputOptions, RateUnit, ReadOptions, Table, read_columns};
+use crate::io::{InputOptions, RateUnit, ReadOptions, Sampling, Table, read_columns, sampling};
 
 use super::CliError;
 
@@ -43,7 +43,9 @@ pub struct Series {
 }
 
 /// Reads `column` of the recording at `path` (CSV or MCAP, read with `input`); the sample rate
-/// comes from `rate_override` or the time stamps, and must be positive and finite.
+/// comes from `rate_override` or the time stamps ([`sampling()`]: not lowered by dropouts), and must
+/// be positive and finite. Dropouts and irregular stamps are logged as warnings
+/// ([`warn_uneven`]): the analyses take the samples as equally spaced.
 pub fn load_series(
     path: &Path,
     column: &str,
@@ -52,10 +54,14 @@ pub fn load_series(
 ) -> Result<Series, CliError> {
     let Table { t_s, mut columns, temp_c, topic, .. } = read_columns(path, &[column], ReadOptions::default(), input)?;
     let values = columns.pop().expect("one column was asked for");
-    let rate_hz = match rate_override {
-        Some(r) => r,
-        None if t_s.len() >= 2 => (t_s.len() - 1) as f64 / (t_s[t_s.len() - 1] - t_s[0]),
-        None => {
+    let measured = sampling(&t_s);
+    if let Some(s) = &measured {
+        warn_uneven(path, s);
+    }
+    let rate_hz = match (rate_override, measured) {
+        (Some(r), _) => r,
+        (None, Some(s)) => s.rate_hz,
+        (None, None) => {
             return Err(
                 format!("{}: one sample is not enough to know the sample rate; pass --rate", path.display()).into()
             );
@@ -65,4 +71,39 @@ pub fn load_series(
         return Err(format!("{}: sample rate {rate_hz} Hz is not positive and finite", path.display()).into());
     }
     Ok(Series { t_s, values, rate_hz, temp_c, topic })
+}
+
+/// Logs a warning when the time stamps of `path` are not equally spaced ([`Sampling`]): where the
+/// first dropouts lie (sample index and time) and how many samples are missing in all, or how
+/// many intervals are irregular. The offline analyses join the samples on either side of a
+/// dropout as if they were consecutive.
+pub fn warn_uneven(path: &Path, s: &Sampling) {
+    const SHOWN: usize = 3;
+    if s.irregular > 0 {
+        tracing::warn!(
+            "{}: irregular time stamps ({} intervals over 1.5 median intervals); the samples are taken as equally spaced at the mean rate {:.6} Hz",
+            path.display(),
+            s.irregular,
+            s.rate_hz
+        );
+    }
+    if s.gaps.is_empty() {
+        return;
+    }
+    let listed: Vec<String> = s
+        .gaps
+        .iter()
+        .take(SHOWN)
+        .map(|g| format!("after sample {} (t = {:.3} s, {:.3} s to the next)", g.index, g.from_s, g.to_s - g.from_s))
+        .collect();
+    let more = if s.gaps.len() > SHOWN { format!(" and {} more", s.gaps.len() - SHOWN) } else { String::new() };
+    tracing::warn!(
+        "{}: {} dropout(s), {} samples missing in all: {}{}; the samples either side are joined as if consecutive, at {:.6} Hz",
+        path.display(),
+        s.gaps.len(),
+        s.missing(),
+        listed.join(", "),
+        more,
+        s.rate_hz
+    );
 }

@@ -11,6 +11,7 @@ pub mod csv_write;
 pub mod mcap_read;
 pub mod recording;
 pub mod ros2_imu;
+pub mod sampling;
 pub mod sim_csv;
 pub mod source;
 
@@ -18,6 +19,7 @@ pub use compensated_csv::{CompensatedCsvWriter, compensated_header};
 pub use csv_read::{CsvError, CsvErrorKind, ReadOptions, Row, SampleReader, Table, read_table, read_table_from};
 pub use csv_write::{CsvColumnsWriter, create_output};
 pub use recording::{Recording, RecordingError, t_ns_from_s};
+pub use sampling::{Sampling, TimeGap, sampling};
 pub use sim_csv::write_sim_csv;
 pub use source::{
     InputError, InputOptions, RateUnit, Request, Sample, SampleSource, detect_format, open_samples, read_columns,
