@@ -61,17 +61,20 @@
 //! fitted at half the part at most.)
 //!
 //! **Greedy combination**: start from the baseline; take the best-ranked effect whose addition is
-//! accepted; add it, refit, and repeat with the remaining effects (only those that lowered the mean
-//! gap on their own) while the model still leaves a significant gap, up to a limit on the number
-//! of effects. At each later step every remaining effect is evaluated together with those kept and
-//! the accepted one with the best score is added (forward stepwise selection): the first ranking
-//! was made against a baseline still missing the kept effects, whose spikes or grid move every
-//! group, so its order no longer says which effect the combination needs. Which kept effect is
-//! *named first* is decided afterwards ([`super::naming`]). Whether the result *explains* the gap
-//! is decided on the hold-out part ([`super::diagnose::Verdict`]); when a significant gap is left,
-//! the kept effects still *partly* explain it if they remove at least [`PARTIAL_SHARE`] of the
-//! excess gap² on every significant part ([`removes_most`]), so a dominant cause is named with its
-//! residual reported as such.
+//! accepted; add it, refit, and repeat with the remaining effects while the model still leaves a
+//! significant gap, up to a limit on the number of effects. (Until the thirty-eighth session only
+//! the effects that lowered the mean gap on their own were tried at a later step; a small second
+//! effect beside a dominant one does not, since alone it leaves the dominant one's gap and adds its
+//! own spread — a ramp with a weak 0.17 Hz line, tuning seed 2482, stayed "unexplained" with the
+//! line fitted right.) At each later step every remaining effect is evaluated together with those
+//! kept and the accepted one with the best score is added (forward stepwise selection): the first
+//! ranking was made against a baseline still missing the kept effects, whose spikes or grid move
+//! every group, so its order no longer says which effect the combination needs. Which kept effect
+//! is *named first* is decided afterwards ([`super::naming`]). Whether the result *explains* the
+//! gap is decided on the hold-out part ([`super::diagnose::Verdict`]); when a significant gap is
+//! left, the kept effects still *partly* explain it if they remove at least [`PARTIAL_SHARE`] of
+//! the excess gap² on every significant part ([`removes_most`]), so a dominant cause is named with
+//! its residual reported as such.
 
 use super::SimgapError;
 use super::ensemble::Evaluation;
@@ -320,9 +323,6 @@ pub fn combine(
             let candidate = if chosen.is_empty() {
                 single.clone()
             } else {
-                if single.mean_gap() >= baseline.mean_gap() {
-                    continue;
-                }
                 let mut set = chosen.clone();
                 set.push(kind);
                 evaluations += 1;
@@ -495,6 +495,28 @@ mod tests {
         let combination = combine(&baseline, &ranked, &[], 0.25, 3, with).unwrap();
         assert_eq!(combination.chosen, vec![EffectKind::Spikes, EffectKind::Warmup]);
         assert_eq!(combination.evaluations, 2);
+        assert!(!combination.after.significant());
+    }
+
+    /// A later step tries every remaining effect with the kept ones, also one that alone leaves a
+    /// larger mean gap than the baseline (a small second effect beside a dominant one: alone it
+    /// lacks the dominant one and adds its own spread).
+    #[test]
+    fn a_small_second_effect_is_tried_beside_the_kept_one() {
+        let baseline = evaluation(vec![5.0, 0.0, 5.0]);
+        let ramp = evaluation(vec![0.0, 0.0, 3.0]);
+        let line_alone = evaluation(vec![5.2, 0.0, 5.1]);
+        assert!(line_alone.mean_gap() > baseline.mean_gap());
+        let ranked = [(EffectKind::Ramp, &ramp), (EffectKind::Sinusoid, &line_alone)];
+        let with = |set: &[EffectKind]| -> Result<Evaluation, SimgapError> {
+            Ok(match set {
+                [EffectKind::Ramp, EffectKind::Sinusoid] => evaluation(vec![0.0, 0.0, 0.1]),
+                other => unreachable!("{other:?}"),
+            })
+        };
+        let combination = combine(&baseline, &ranked, &[], 0.25, 3, with).unwrap();
+        assert_eq!(combination.chosen, vec![EffectKind::Ramp, EffectKind::Sinusoid]);
+        assert_eq!(combination.evaluations, 1);
         assert!(!combination.after.significant());
     }
 
