@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use crate::io::sampling::GAP_FACTOR;
 use crate::io::{InputOptions, RateUnit, ReadOptions, Sampling, Table, read_columns, sampling};
 
 use super::CliError;
@@ -81,9 +82,10 @@ pub fn warn_uneven(path: &Path, s: &Sampling) {
     const SHOWN: usize = 3;
     if s.irregular > 0 {
         tracing::warn!(
-            "{}: irregular time stamps ({} intervals over 1.5 median intervals); the samples are taken as equally spaced at the mean rate {:.6} Hz",
+            "{}: irregular time stamps ({} intervals over {} median intervals); the samples are taken as equally spaced at the mean rate {:.6} Hz",
             path.display(),
             s.irregular,
+            GAP_FACTOR,
             s.rate_hz
         );
     }
