@@ -110,6 +110,7 @@ pub(super) fn json_report<'a>(args: &'a SimgapArgs, d: &Diagnosis) -> JsonReport
         effects,
         chosen: d.chosen.iter().map(|k| k.name()).collect(),
         tried: d.tried.iter().map(|k| k.name()).collect(),
+        tried_params: d.tried_params.iter().map(|p| Value::Object(params_map(&p.named()))).collect(),
         verdict: d.verdict,
         gap_before_train: d.before.train.score.gap,
         gap_after_train: d.after.train.score.gap,
@@ -142,6 +143,9 @@ pub(super) struct JsonReport<'a> {
     effects: Vec<Value>,
     chosen: Vec<&'static str>,
     tried: Vec<&'static str>,
+    /// The parameters of each kept effect as the final model holds them (another candidate fit
+    /// than the one `effects` lists, where the combination kept another).
+    tried_params: Vec<Value>,
     verdict: Verdict,
     gap_before_train: f64,
     gap_after_train: f64,

@@ -174,6 +174,15 @@ pub fn write_report(dir: &Path, args: &SimgapArgs, d: &Diagnosis) -> Result<Path
         );
     }
     html.push_str("</table>");
+    for (kind, params) in d.kept_with_other_fit() {
+        let params = params.named().iter().map(|(k, v)| format!("{k} = {v:.4e}")).collect::<Vec<_>>().join(", ");
+        let _ = write!(
+            html,
+            "<p>{} is kept with another of its candidate fits than the one listed: {}.</p>",
+            kind.name(),
+            escape(&params)
+        );
+    }
     html.push_str("<p>Bands are the 2.5–97.5 % quantiles of the simulated ensemble; dashed lines their medians.</p>");
     html.push_str("</body></html>\n");
     std::fs::write(&file, html).map_err(|e| format!("{}: cannot write: {e}", file.display()))?;

@@ -181,6 +181,15 @@ pub(super) fn write_text(out: &mut impl Write, args: &SimgapArgs, d: &Diagnosis,
         if v.is_empty() { "none".to_owned() } else { v.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ") }
     };
     writeln!(out, "Chosen: {}", names(&d.chosen))?;
+    for (kind, params) in d.kept_with_other_fit() {
+        let params: Vec<String> = params.named().iter().map(|(k, v)| format!("{k}={v:.4e}")).collect();
+        writeln!(
+            out,
+            "Kept with another of its candidate fits than the one listed: {} {}",
+            kind.name(),
+            params.join(" ")
+        )?;
+    }
     if d.chosen.is_empty() && !d.tried.is_empty() {
         writeln!(out, "Kept by the greedy combination but not explaining the hold-out part: {}", names(&d.tried))?;
     }

@@ -28,7 +28,7 @@ use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
 use super::greedy::{
-    OWN_NULL_LEVEL, combine, detector_test, judge, outrank_all_but_best_candidate, own_evidence,
+    FitChoice, OWN_NULL_LEVEL, combine, detector_test, judge, outrank_all_but_best_candidate, own_evidence,
     ramp_before_unbounded_warmup, removes_most,
 };
 use super::model::SimModel;
@@ -113,8 +113,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     // With a given simulator nothing is refitted: every effect's own null is the baseline itself,
     // and its detector is tested against that.
     let given_own_null = given.then(|| before.at_level(OWN_NULL_LEVEL));
-    // Every model built, by its effects in the order added, so the final one is not refitted again.
-    let mut built: Vec<(Vec<EffectKind>, SimModel)> = vec![(Vec::new(), baseline_model.clone())];
+    // Every model built, by its fits in the order added, so the final one is not refitted again.
+    let mut built: Vec<(Vec<FitChoice>, SimModel)> = vec![(Vec::new(), baseline_model.clone())];
     let mut ensembles_run = 1;
     tracing::info!("baseline: gap {:.3} (training), {:.3} (hold-out)", before.train.score.gap, before.hold.score.gap);
 
@@ -147,8 +147,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         })
         .collect();
     let mut effects = Vec::new();
-    // The fit kept per effect, for the combinations below.
-    let mut fitted: Vec<(EffectKind, FittedEffect)> = Vec::new();
+    // Every candidate fit per effect and which scored best alone, for the combinations below.
+    let mut fitted: Vec<(EffectKind, Vec<FittedEffect>, usize)> = Vec::new();
     for (kind, fits) in candidates {
         let best = best_fit(fits, |effect| {
             let (model, own_null_model) = builder.build_with_own_null(effect)?;
@@ -157,9 +157,9 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
             Ok(((model, own_null_model), evaluation))
         })?;
         let result = match best {
-            Ok((effect, (model, own_null_model), evaluation)) => {
-                fitted.push((kind, effect.clone()));
-                built.push((vec![kind], model));
+            Ok(BestFit { found, best, built: (model, own_null_model), evaluation }) => {
+                let effect = &found[best];
+                built.push((vec![FitChoice { kind, fit: best }], model));
                 tracing::info!(
                     "{}: gap {:.3} (training), {:.3} (hold-out)",
                     kind.name(),
@@ -201,9 +201,11 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                         kind.name()
                     );
                 }
+                let params = Some(effect.params.clone());
+                fitted.push((kind, found, best));
                 EffectResult {
                     kind,
-                    params: Some(effect.params.clone()),
+                    params,
                     note: None,
                     judgement: Some(judge(&before, &evaluation, settings.min_share)),
                     evaluation: Some(evaluation),
@@ -251,19 +253,37 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
             }
         },
     );
-    let ranked: Vec<(EffectKind, &Evaluation)> =
-        effects.iter().filter(|e| e.supported).filter_map(|e| e.evaluation.as_ref().map(|ev| (e.kind, ev))).collect();
-    let found = |kind: EffectKind| fitted.iter().find_map(|(k, e)| (*k == kind).then_some(e));
+    let fits_of = |kind: EffectKind| fitted.iter().find(|(k, ..)| *k == kind);
+    let best_choice = |kind: EffectKind| fits_of(kind).map(|&(kind, _, fit)| FitChoice { kind, fit });
+    let ranked: Vec<(FitChoice, &Evaluation)> = effects
+        .iter()
+        .filter(|e| e.supported)
+        .filter_map(|e| Some((best_choice(e.kind)?, e.evaluation.as_ref()?)))
+        .collect();
+    // The other candidate fits of the candidates, for the later steps (greedy.rs).
+    let other_fits: Vec<FitChoice> = ranked
+        .iter()
+        .filter_map(|(choice, _)| fits_of(choice.kind))
+        .flat_map(|(kind, found, best)| {
+            (0..found.len()).filter(move |fit| fit != best).map(move |fit| FitChoice { kind: *kind, fit })
+        })
+        .collect();
+    let found = |c: FitChoice| fits_of(c.kind).and_then(|(_, found, _)| found.get(c.fit));
     let own_null: Vec<EffectKind> = effects.iter().filter(|e| e.accepted_by_own_null()).map(|e| e.kind).collect();
-    let combination = combine(&before, &ranked, &own_null, settings.min_share, settings.max_effects, |set| {
-        let parts: Vec<&FittedEffect> = set.iter().filter_map(|&k| found(k)).collect();
-        let (model, _) = builder.build(&parts)?;
-        let evaluation = evaluate(&setup, &model);
-        built.push((set.to_vec(), model));
-        evaluation
-    })?;
+    let combination =
+        combine(&before, &ranked, &other_fits, &own_null, settings.min_share, settings.max_effects, |set| {
+            let parts: Vec<&FittedEffect> = set.iter().filter_map(|&c| found(c)).collect();
+            let (model, _) = builder.build(&parts)?;
+            let evaluation = evaluate(&setup, &model);
+            built.push((set.to_vec(), model));
+            evaluation
+        })?;
     ensembles_run += combination.evaluations;
-    let tried = combination.chosen;
+    let kept_fits = combination.chosen;
+    let tried: Vec<EffectKind> = kept_fits.iter().map(|c| c.kind).collect();
+    // The parameters of each kept effect as the final model holds them.
+    let tried_params: Vec<EffectParams> =
+        kept_fits.iter().filter_map(|&c| found(c)).map(|e| e.params.clone()).collect();
     // The first kept effect's own report: its own null and its evaluation alone.
     let first_tried = tried.first().and_then(|&k| effects.iter().find(|e| e.kind == k));
     // What the share of a partial explanation is measured from: the baseline when it shows a
@@ -284,13 +304,13 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     // the effects were added in.
     let chosen = if matches!(verdict, Verdict::Explained | Verdict::PartlyExplained) {
         let first_alone = first_tried.and_then(|e| e.evaluation.as_ref()).unwrap_or(&before);
-        naming_order(&before, first_alone, &tried, |k| found(k).map(|e| &e.params))
+        naming_order(&before, first_alone, &tried, |k| tried.iter().position(|&t| t == k).map(|i| &tried_params[i]))
     } else {
         Vec::new()
     };
-    let after_model = match built.into_iter().find(|(set, _)| *set == tried) {
+    let after_model = match built.into_iter().find(|(set, _)| *set == kept_fits) {
         Some((_, model)) => model,
-        None => builder.build(&tried.iter().filter_map(|&k| found(k)).collect::<Vec<_>>())?.0,
+        None => builder.build(&kept_fits.iter().filter_map(|&c| found(c)).collect::<Vec<_>>())?.0,
     };
     let Setup { layout_train, layout_hold, .. } = setup;
     let located_train = layout_train.locate(train)?;
@@ -311,6 +331,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         effects,
         chosen,
         tried,
+        tried_params,
         after_model,
         after: combination.after,
         verdict,
@@ -318,29 +339,45 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     })
 }
 
+/// One effect's candidate fits that were found, and the one that scored best alone.
+struct BestFit<T> {
+    /// The fits found, in the order of the candidates.
+    found: Vec<FittedEffect>,
+    /// Index in `found` of the best one.
+    best: usize,
+    /// What `evaluate` returned beside the best one's evaluation.
+    built: T,
+    /// The best one's evaluation.
+    evaluation: Evaluation,
+}
+
 /// Of `fits` (one effect's candidate fits), the one whose model `evaluate` scores best (the least
 /// mean log score, the order effects are ranked in), with what `evaluate` returned beside its
-/// evaluation; the first candidate's reason when none was found.
+/// evaluation, and every fit found; the first candidate's reason when none was found.
 fn best_fit<T>(
     fits: Vec<Fitted>,
     mut evaluate: impl FnMut(&FittedEffect) -> Result<(T, Evaluation), SimgapError>,
-) -> Result<Result<(FittedEffect, T, Evaluation), String>, SimgapError> {
-    let mut best: Option<(FittedEffect, T, Evaluation)> = None;
+) -> Result<Result<BestFit<T>, String>, SimgapError> {
+    let mut found: Vec<FittedEffect> = Vec::new();
+    let mut best: Option<(usize, T, Evaluation)> = None;
     let mut why = None;
     for fit in fits {
         match fit {
             Fitted::Found(effect) => {
                 let (built, evaluation) = evaluate(&effect)?;
                 if best.as_ref().is_none_or(|b| evaluation.mean_log_score() < b.2.mean_log_score()) {
-                    best = Some((effect, built, evaluation));
+                    best = Some((found.len(), built, evaluation));
                 }
+                found.push(effect);
             }
             Fitted::NotApplicable(reason) => {
                 why.get_or_insert(reason);
             }
         }
     }
-    Ok(best.ok_or_else(|| why.unwrap_or_default()))
+    Ok(best
+        .map(|(best, built, evaluation)| BestFit { found, best, built, evaluation })
+        .ok_or_else(|| why.unwrap_or_default()))
 }
 
 /// How many steps the window detector's bias-jump fit `fit` holds (none where it found nothing).

@@ -69,7 +69,14 @@
 //! line fitted right.) At each later step every remaining effect is evaluated together with those
 //! kept and the accepted one with the best score is added (forward stepwise selection): the first
 //! ranking was made against a baseline still missing the kept effects, whose spikes or grid move
-//! every group, so its order no longer says which effect the combination needs. Which kept effect
+//! every group, so its order no longer says which effect the combination needs. For the same
+//! reason a later step tries *every* candidate fit of an effect ([`FitChoice`]), not only the one
+//! that scored best alone: a sinusoid is fitted at the strongest line of the Hann search and at
+//! that of the whole part's periodogram ([`super::fit_spectral::fit_sinusoid_candidates`]), and
+//! beside dominant spikes, whose misfit of the distribution sets every single score, a noise line
+//! can score best alone while the slow line is what the combination needs (thirty-ninth session: tuning seed 2473, a 0.008 Hz sinusoid of 0.27 deg/s
+//! under 106 spikes of 6.8 deg/s, was "partly explained" by the spikes alone with the 4.7 Hz noise
+//! line tried beside them; with the slow line the case is explained). Which kept effect
 //! is *named first* is decided afterwards ([`super::naming`]). Whether the result *explains* the
 //! gap is decided on the hold-out part ([`super::diagnose::Verdict`]); when a significant gap is
 //! left, the kept effects still *partly* explain it if they remove at least [`PARTIAL_SHARE`] of
@@ -288,64 +295,83 @@ pub fn outrank_all_but_best_candidate<T>(
     }
 }
 
+/// One candidate fit of an effect: the effect and the index of the fit among its candidate fits
+/// ([`super::effects::fit_candidates`]; a sinusoid has one per line detector, the bias jumps one
+/// from the window detector and one from the step process' segmentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FitChoice {
+    /// The effect.
+    pub kind: EffectKind,
+    /// Which of its candidate fits.
+    pub fit: usize,
+}
+
 /// The outcome of the greedy combination.
 #[derive(Debug, Clone)]
 pub struct Combination {
-    /// The effects kept, in the order they were added.
-    pub chosen: Vec<EffectKind>,
+    /// The effects kept, in the order they were added, each with the fit kept.
+    pub chosen: Vec<FitChoice>,
     /// The evaluation of the final model (the baseline's when nothing was kept).
     pub after: Evaluation,
     /// Number of combined models evaluated.
     pub evaluations: usize,
 }
 
-/// Greedy combination (module docs). `ranked` holds the applicable effects best first with their
-/// single-effect evaluations; `own_null` lists the effects accepted against their own null (module
-/// docs), which may be the first step even when the baseline shows no significant gap;
-/// `evaluate` builds and evaluates the model of a set of effects.
+/// Greedy combination (module docs). `ranked` holds the candidate effects best first, each with
+/// the fit that scored best alone and that single-effect evaluation; `other_fits` the remaining
+/// candidate fits of those effects, tried at the later steps only (module docs: the fit that
+/// scored best alone is not always the one that helps beside the kept effects); `own_null` lists
+/// the effects accepted against their own null (module docs), which may be the first step even
+/// when the baseline shows no significant gap; `evaluate` builds and evaluates the model of a set
+/// of fits.
 pub fn combine(
     baseline: &Evaluation,
-    ranked: &[(EffectKind, &Evaluation)],
+    ranked: &[(FitChoice, &Evaluation)],
+    other_fits: &[FitChoice],
     own_null: &[EffectKind],
     min_share: f64,
     max_effects: usize,
-    mut evaluate: impl FnMut(&[EffectKind]) -> Result<Evaluation, SimgapError>,
+    mut evaluate: impl FnMut(&[FitChoice]) -> Result<Evaluation, SimgapError>,
 ) -> Result<Combination, SimgapError> {
-    let mut chosen: Vec<EffectKind> = Vec::new();
+    let mut chosen: Vec<FitChoice> = Vec::new();
     let mut current = baseline.clone();
     let mut evaluations = 0;
     while (current.significant() || (chosen.is_empty() && !own_null.is_empty())) && chosen.len() < max_effects {
-        let mut added: Option<(EffectKind, Evaluation)> = None;
-        for &(kind, single) in ranked {
-            if chosen.contains(&kind) {
-                continue;
-            }
-            let candidate = if chosen.is_empty() {
-                single.clone()
-            } else {
-                let mut set = chosen.clone();
-                set.push(kind);
-                evaluations += 1;
-                evaluate(&set)?
-            };
-            let by_own_null = chosen.is_empty() && own_null.contains(&kind);
-            if by_own_null || judge(&current, &candidate, min_share).explains {
-                if chosen.is_empty() {
-                    // The first step: the ranking is of exactly these evaluations.
-                    added = Some((kind, candidate));
-                    break;
+        let mut added: Option<(FitChoice, Evaluation)> = None;
+        if chosen.is_empty() {
+            // The first step: the ranking is of exactly these evaluations; the first accepted.
+            added = ranked
+                .iter()
+                .find(|(choice, single)| own_null.contains(&choice.kind) || judge(&current, single, min_share).explains)
+                .map(|&(choice, single)| (choice, single.clone()));
+        } else {
+            // A later step: the ranking was made without the effects kept since, so every
+            // remaining fit is scored with them and the best accepted one is kept.
+            let remaining = ranked.iter().map(|&(choice, _)| choice).chain(other_fits.iter().copied());
+            for choice in remaining {
+                if chosen.iter().any(|c| c.kind == choice.kind) {
+                    continue;
                 }
-                // A later step: the ranking was made without the effects kept since, so every
-                // candidate is scored with them and the best accepted one is kept.
-                if added.as_ref().is_none_or(|(_, a)| candidate.mean_log_score() < a.mean_log_score()) {
-                    added = Some((kind, candidate));
+                let mut set = chosen.clone();
+                set.push(choice);
+                evaluations += 1;
+                let candidate = evaluate(&set)?;
+                if judge(&current, &candidate, min_share).explains
+                    && added.as_ref().is_none_or(|(_, a)| candidate.mean_log_score() < a.mean_log_score())
+                {
+                    added = Some((choice, candidate));
                 }
             }
         }
         match added {
-            Some((kind, evaluation)) => {
-                tracing::debug!("greedy: kept {} (mean gap {:.3})", kind.name(), evaluation.mean_gap());
-                chosen.push(kind);
+            Some((choice, evaluation)) => {
+                tracing::debug!(
+                    "greedy: kept {} (fit {}, mean gap {:.3})",
+                    choice.kind.name(),
+                    choice.fit,
+                    evaluation.mean_gap()
+                );
+                chosen.push(choice);
                 current = evaluation;
             }
             None => break,
@@ -454,6 +480,16 @@ mod tests {
         assert!(!own_evidence(Some(&nested(-60.0, -50.0)), None));
     }
 
+    /// The first candidate fit of `kind`.
+    fn fit0(kind: EffectKind) -> FitChoice {
+        FitChoice { kind, fit: 0 }
+    }
+
+    /// The effects of `set`, for matching a set of fits by its kinds.
+    fn kinds(set: &[FitChoice]) -> Vec<EffectKind> {
+        set.iter().map(|c| c.kind).collect()
+    }
+
     /// Without a significant baseline gap nothing is combined, unless the effect was accepted
     /// against its own null; a significant gap that the effect removes is accepted either way, and
     /// an effect that leaves the gap as it was is not.
@@ -462,38 +498,38 @@ mod tests {
         let quiet = evaluation(vec![0.05, -0.1, 0.0]);
         let loud = evaluation(vec![0.05, -0.1, 5.0]);
         assert!(!quiet.significant() && loud.significant());
-        let never = |_: &[EffectKind]| -> Result<Evaluation, SimgapError> { unreachable!("one effect only") };
-        let ranked = [(EffectKind::Warmup, &quiet)];
-        let plain = combine(&quiet, &ranked, &[], 0.25, 3, never).unwrap();
+        let never = |_: &[FitChoice]| -> Result<Evaluation, SimgapError> { unreachable!("one effect only") };
+        let ranked = [(fit0(EffectKind::Warmup), &quiet)];
+        let plain = combine(&quiet, &ranked, &[], &[], 0.25, 3, never).unwrap();
         assert!(plain.chosen.is_empty());
-        let own = combine(&quiet, &ranked, &[EffectKind::Warmup], 0.25, 3, never).unwrap();
-        assert_eq!(own.chosen, vec![EffectKind::Warmup]);
-        let explained = combine(&loud, &ranked, &[], 0.25, 3, never).unwrap();
-        assert_eq!(explained.chosen, vec![EffectKind::Warmup]);
-        let useless = [(EffectKind::Ramp, &loud)];
-        assert!(combine(&loud, &useless, &[], 0.25, 3, never).unwrap().chosen.is_empty());
+        let own = combine(&quiet, &ranked, &[], &[EffectKind::Warmup], 0.25, 3, never).unwrap();
+        assert_eq!(own.chosen, vec![fit0(EffectKind::Warmup)]);
+        let explained = combine(&loud, &ranked, &[], &[], 0.25, 3, never).unwrap();
+        assert_eq!(explained.chosen, vec![fit0(EffectKind::Warmup)]);
+        let useless = [(fit0(EffectKind::Ramp), &loud)];
+        assert!(combine(&loud, &useless, &[], &[], 0.25, 3, never).unwrap().chosen.is_empty());
     }
 
     /// After the first step every remaining effect is scored with the kept ones and the best
     /// accepted one is added, not the first accepted one in the ranking made without them.
     #[test]
     fn later_steps_keep_the_best_scoring_accepted_effect() {
+        use EffectKind::{BiasJumps, Spikes, Warmup};
         let baseline = evaluation(vec![5.0, 0.0, 5.0]);
         let spikes = evaluation(vec![0.0, 0.0, 5.0]);
         let steps_alone = evaluation(vec![5.0, 0.0, 2.5]);
         let warmup_alone = evaluation(vec![5.0, 0.0, 3.0]);
-        let ranked =
-            [(EffectKind::Spikes, &spikes), (EffectKind::BiasJumps, &steps_alone), (EffectKind::Warmup, &warmup_alone)];
-        let with = |set: &[EffectKind]| -> Result<Evaluation, SimgapError> {
-            Ok(match set {
-                [EffectKind::Spikes, EffectKind::BiasJumps] => evaluation(vec![0.0, 0.0, 2.0]),
-                [EffectKind::Spikes, EffectKind::Warmup] => evaluation(vec![0.0, 0.0, 0.1]),
+        let ranked = [(fit0(Spikes), &spikes), (fit0(BiasJumps), &steps_alone), (fit0(Warmup), &warmup_alone)];
+        let with = |set: &[FitChoice]| -> Result<Evaluation, SimgapError> {
+            Ok(match kinds(set).as_slice() {
+                [Spikes, BiasJumps] => evaluation(vec![0.0, 0.0, 2.0]),
+                [Spikes, Warmup] => evaluation(vec![0.0, 0.0, 0.1]),
                 other => unreachable!("{other:?}"),
             })
         };
-        assert!(judge(&spikes, &with(&[EffectKind::Spikes, EffectKind::BiasJumps]).unwrap(), 0.25).explains);
-        let combination = combine(&baseline, &ranked, &[], 0.25, 3, with).unwrap();
-        assert_eq!(combination.chosen, vec![EffectKind::Spikes, EffectKind::Warmup]);
+        assert!(judge(&spikes, &with(&[fit0(Spikes), fit0(BiasJumps)]).unwrap(), 0.25).explains);
+        let combination = combine(&baseline, &ranked, &[], &[], 0.25, 3, with).unwrap();
+        assert_eq!(combination.chosen, vec![fit0(Spikes), fit0(Warmup)]);
         assert_eq!(combination.evaluations, 2);
         assert!(!combination.after.significant());
     }
@@ -503,21 +539,50 @@ mod tests {
     /// lacks the dominant one and adds its own spread).
     #[test]
     fn a_small_second_effect_is_tried_beside_the_kept_one() {
+        use EffectKind::{Ramp, Sinusoid};
         let baseline = evaluation(vec![5.0, 0.0, 5.0]);
         let ramp = evaluation(vec![0.0, 0.0, 3.0]);
         let line_alone = evaluation(vec![5.2, 0.0, 5.1]);
         assert!(line_alone.mean_gap() > baseline.mean_gap());
-        let ranked = [(EffectKind::Ramp, &ramp), (EffectKind::Sinusoid, &line_alone)];
-        let with = |set: &[EffectKind]| -> Result<Evaluation, SimgapError> {
-            Ok(match set {
-                [EffectKind::Ramp, EffectKind::Sinusoid] => evaluation(vec![0.0, 0.0, 0.1]),
+        let ranked = [(fit0(Ramp), &ramp), (fit0(Sinusoid), &line_alone)];
+        let with = |set: &[FitChoice]| -> Result<Evaluation, SimgapError> {
+            Ok(match kinds(set).as_slice() {
+                [Ramp, Sinusoid] => evaluation(vec![0.0, 0.0, 0.1]),
                 other => unreachable!("{other:?}"),
             })
         };
-        let combination = combine(&baseline, &ranked, &[], 0.25, 3, with).unwrap();
-        assert_eq!(combination.chosen, vec![EffectKind::Ramp, EffectKind::Sinusoid]);
+        let combination = combine(&baseline, &ranked, &[], &[], 0.25, 3, with).unwrap();
+        assert_eq!(combination.chosen, vec![fit0(Ramp), fit0(Sinusoid)]);
         assert_eq!(combination.evaluations, 1);
         assert!(!combination.after.significant());
+    }
+
+    /// A later step also tries an effect's other candidate fits with the kept ones: the fit that
+    /// scored best alone (a strong noise line, beside spikes that dominate every score) may do
+    /// nothing there while another (the slow line) explains the rest. The first step ranks the
+    /// single evaluations only, so the other fits are not evaluated before it.
+    #[test]
+    fn a_later_step_tries_every_candidate_fit_of_an_effect() {
+        use EffectKind::{Sinusoid, Spikes};
+        let baseline = evaluation(vec![5.0, 0.0, 5.0]);
+        let spikes = evaluation(vec![0.0, 0.0, 5.0]);
+        let line_alone = evaluation(vec![5.0, 0.0, 4.9]);
+        let noise_line = FitChoice { kind: Sinusoid, fit: 1 };
+        let slow_line = fit0(Sinusoid);
+        let ranked = [(fit0(Spikes), &spikes), (noise_line, &line_alone)];
+        let with = |set: &[FitChoice]| -> Result<Evaluation, SimgapError> {
+            Ok(match set {
+                [s, l] if *s == fit0(Spikes) && *l == noise_line => evaluation(vec![0.0, 0.0, 4.9]),
+                [s, l] if *s == fit0(Spikes) && *l == slow_line => evaluation(vec![0.0, 0.0, 0.2]),
+                other => unreachable!("{other:?}"),
+            })
+        };
+        let only_ranked = combine(&baseline, &ranked, &[], &[], 0.25, 3, with).unwrap();
+        assert_eq!(only_ranked.chosen, vec![fit0(Spikes)]);
+        let every_fit = combine(&baseline, &ranked, &[slow_line], &[], 0.25, 3, with).unwrap();
+        assert_eq!(every_fit.chosen, vec![fit0(Spikes), slow_line]);
+        assert_eq!(every_fit.evaluations, 2);
+        assert!(!every_fit.after.significant());
     }
 
     /// Statistics `names` of one `group`, compared as they are.

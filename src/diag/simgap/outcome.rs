@@ -129,6 +129,11 @@ pub struct Diagnosis {
     pub chosen: Vec<EffectKind>,
     /// The effects the greedy combination kept, whether or not they explain the gap.
     pub tried: Vec<EffectKind>,
+    /// The fitted parameters of each effect of `tried`, as the final model holds them: for an
+    /// effect with several candidate fits (a sinusoid's two line detectors, the bias jumps' window
+    /// and segmentation fits) the combination may keep another fit than the one that scored best
+    /// alone, whose parameters `effects` lists ([`super::greedy::combine`]).
+    pub tried_params: Vec<EffectParams>,
     /// The model with the kept effects (`tried`).
     pub after_model: SimModel,
     /// Its evaluation (the gap after; the baseline's when none was kept).
@@ -137,4 +142,14 @@ pub struct Diagnosis {
     pub verdict: Verdict,
     /// Ensembles run.
     pub ensembles_run: usize,
+}
+
+impl Diagnosis {
+    /// The kept effects whose final model holds another of their candidate fits than the one
+    /// `effects` lists (the one that scored best alone), with the parameters kept.
+    pub fn kept_with_other_fit(&self) -> impl Iterator<Item = (EffectKind, &EffectParams)> {
+        self.tried.iter().zip(&self.tried_params).filter_map(|(&kind, params)| {
+            self.effects.iter().any(|e| e.kind == kind && e.params.as_ref() != Some(params)).then_some((kind, params))
+        })
+    }
 }
