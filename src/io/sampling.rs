@@ -10,7 +10,7 @@
 //! step of `gap_factor` configured periods, 3 by default, against a rate it is told; this is the
 //! offline estimate of that rate, and one missing sample, an interval of 2, already counts.)
 
-use crate::diag::simgap::robust::median;
+use crate::model::metrics::median;
 
 /// An interval longer than this many median intervals is a dropout.
 pub const GAP_FACTOR: f64 = 1.5;

@@ -1,6 +1,6 @@
 //! Prediction error indexes of paper §3 Step 5: MAE (Eq. 22), RMSE (Eq. 23), ARE (Eq. 24), the
 //! standard deviation used for compensation (paper §4.3, Table 2; [`sample_std_dev`], n − 1) and
-//! the population standard deviation ([`population_std_dev`], n), and quantiles.
+//! the population standard deviation ([`population_std_dev`], n), and quantiles and the median.
 //!
 //! ARE: the paper writes `(1/n) Σ |ŷ_i − y_i| / y_i`. Dividing by a signed `y_i` lets terms of
 //! opposite sign cancel, so [`are`] divides by `|y_i|`. Even so ARE is ill-posed for a drift
@@ -123,6 +123,28 @@ pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
     sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
 }
 
+/// Median of `x` (the mean of the two middle values for an even count); NaN for an empty slice.
+pub fn median(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = x.to_vec();
+    median_in_place(&mut v)
+}
+
+/// Median of `v` (non-empty), reordering it: the middle order statistics are selected rather
+/// than the whole slice sorted, and combined as [`quantile_sorted`] combines them at q = 0.5, so
+/// the value is the sorted slice's to the bit.
+fn median_in_place(v: &mut [f64]) -> f64 {
+    let (lo, odd) = ((v.len() - 1) / 2, v.len() % 2 == 1);
+    let (_, &mut low, above) = v.select_nth_unstable_by(lo, f64::total_cmp);
+    if odd {
+        return quantile_sorted(&[low], 0.5);
+    }
+    let high = above.iter().copied().min_by(f64::total_cmp).unwrap_or(low);
+    quantile_sorted(&[low, high], 0.5)
+}
+
 /// Converts an error (MAE, RMSE, a standard deviation) from normalised units to original units:
 /// multiplies by the scaler's half-range. Not valid for ARE.
 pub fn error_to_units(error: f64, scaler: &MinMaxScaler) -> f64 {
@@ -132,6 +154,13 @@ pub fn error_to_units(error: f64, scaler: &MinMaxScaler) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert!(median(&[]).is_nan());
+    }
 
     #[test]
     fn hand_computed_values() {

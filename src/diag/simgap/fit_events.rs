@@ -45,7 +45,8 @@
 //!   between distinct values (relative to the smallest value).
 
 use super::params::{EffectParams, Fitted, FittedEffect};
-use super::robust::{block_means, kurtosis, mad_sigma, median};
+use super::robust::{block_means, kurtosis, mad_sigma};
+use crate::model::metrics::median;
 use crate::model::normal::{chi2_upper, normal_quantile};
 
 /// Threshold of a candidate jump, robust σ of the window difference (module docs).

@@ -24,8 +24,9 @@ use std::f64::consts::TAU;
 
 use super::fast_line::FastLine;
 use super::params::{EffectParams, Fitted, FittedEffect};
-use super::robust::{linear_fit, median};
+use super::robust::linear_fit;
 use crate::diag::fft::Fft;
+use crate::model::metrics::median;
 
 /// Bins on each side in the background median.
 const BACKGROUND_HALF: usize = 16;

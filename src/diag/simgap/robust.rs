@@ -1,33 +1,11 @@
 //! Small order statistics and moments shared by the sim-to-real statistics and the effect fits:
-//! median (with [`crate::model::metrics::quantile_sorted`], NumPy's default linear interpolation),
-//! median absolute deviation, block means, the kurtosis and a least-squares line.
+//! the median absolute deviation (about [`crate::model::metrics::median`], NumPy's to the bit),
+//! block means, the kurtosis and a least-squares line.
 
-use crate::model::metrics::quantile_sorted;
+use crate::model::metrics::median;
 
 /// Normal-consistency factor of the MAD: σ = 1.4826·MAD for Gaussian data (1/Φ⁻¹(3/4)).
 pub const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
-
-/// Median of `x` (the mean of the two middle values for an even count); NaN for an empty slice.
-pub fn median(x: &[f64]) -> f64 {
-    if x.is_empty() {
-        return f64::NAN;
-    }
-    let mut v = x.to_vec();
-    median_in_place(&mut v)
-}
-
-/// Median of `v` (non-empty), reordering it: the middle order statistics are selected rather
-/// than the whole slice sorted, and combined as [`quantile_sorted`] combines them at q = 0.5, so
-/// the value is the sorted slice's to the bit.
-fn median_in_place(v: &mut [f64]) -> f64 {
-    let (lo, odd) = ((v.len() - 1) / 2, v.len() % 2 == 1);
-    let (_, &mut low, above) = v.select_nth_unstable_by(lo, f64::total_cmp);
-    if odd {
-        return quantile_sorted(&[low], 0.5);
-    }
-    let high = above.iter().copied().min_by(f64::total_cmp).unwrap_or(low);
-    quantile_sorted(&[low, high], 0.5)
-}
 
 /// Median absolute deviation about the median, scaled to a Gaussian σ ([`MAD_TO_SIGMA`]).
 pub fn mad_sigma(x: &[f64]) -> f64 {
@@ -89,12 +67,6 @@ pub fn detrended(x: &[f64]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn median_of_odd_and_even_counts() {
-        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
-    }
 
     #[test]
     fn moments_and_lines() {
