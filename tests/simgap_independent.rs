@@ -386,6 +386,19 @@ fn beside_spikes_the_sinusoid_is_kept_with_its_slow_line_fit() {
     assert!((kept / injected - 1.0).abs() < 0.01, "kept {kept} Hz against {injected} Hz");
     assert_eq!(doc["verdict"], "explained");
     assert_eq!(named_first(&doc), Some("sinusoid"), "{}", doc["chosen"]);
+    // The text and HTML reports say which fit the final model holds, beside the table's listed one.
+    let path = dir.path().join(case["file"].as_str().unwrap());
+    let html = dir.path().join("report");
+    let out = Command::new(env!("CARGO_BIN_EXE_gyrocomp"))
+        .args(["simgap", "--real", path.to_str().unwrap(), "--threads", "2", "--report", html.to_str().unwrap()])
+        .output()
+        .expect("run gyrocomp");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let line = text.lines().find(|l| l.starts_with("Kept with another of its candidate fits")).unwrap_or_default();
+    assert!(line.contains("sinusoid") && line.contains("frequency_hz=8.1"), "text report: {text}");
+    let page = std::fs::read_to_string(html.join("index.html")).unwrap();
+    assert!(page.contains("sinusoid is kept with another of its candidate fits"), "HTML report");
 }
 
 /// A warm-up and a ramp that the fitted IEEE terms take in (tuning seeds 2500 and 2642, cases the
