@@ -84,14 +84,14 @@
 //! that scored best alone: a sinusoid is fitted at the strongest line of the Hann search and at
 //! that of the whole part's periodogram ([`super::fit_spectral::fit_sinusoid_candidates`]), and
 //! beside dominant spikes, whose misfit of the distribution sets every single score, a noise line
-//! can score best alone while the slow line is what the combination needs (thirty-ninth session: tuning seed 2473, a 0.008 Hz sinusoid of 0.27 deg/s
-//! under 106 spikes of 6.8 deg/s, was "partly explained" by the spikes alone with the 4.7 Hz noise
-//! line tried beside them; with the slow line the case is explained). Which kept effect
-//! is *named first* is decided afterwards ([`super::naming`]). Whether the result *explains* the
-//! gap is decided on the hold-out part ([`super::diagnose::Verdict`]); when a significant gap is
-//! left, the kept effects still *partly* explain it if they remove at least [`PARTIAL_SHARE`] of
-//! the excess gap² on every significant part ([`removes_most`]), so a dominant cause is named with
-//! its residual reported as such.
+//! can score best alone while the slow line is what the combination needs (thirty-ninth session:
+//! tuning seed 2473, a 0.008 Hz sinusoid of 0.27 deg/s under 106 spikes of 6.8 deg/s, was "partly
+//! explained" by the spikes alone with the 4.8 Hz noise line tried beside them; with the slow line
+//! the case is explained). Which kept effect is *named first* is decided afterwards
+//! ([`super::naming`]). Whether the result *explains* the gap is decided on the hold-out part
+//! ([`super::diagnose::Verdict`]); when a significant gap is left, the kept effects still *partly*
+//! explain it if they remove at least [`PARTIAL_SHARE`] of the excess gap² on every significant
+//! part ([`removes_most`]), so a dominant cause is named with its residual reported as such.
 
 use super::SimgapError;
 use super::ensemble::Evaluation;
@@ -249,10 +249,15 @@ pub struct Judgement {
     pub share_hold: Option<f64>,
 }
 
-fn part_share(reference: &PartComparison, model: &PartComparison) -> Option<f64> {
+/// The gap² that `model` removes from `reference` on one part (negative where it adds).
+fn gap_squared_removed(reference: &PartComparison, model: &PartComparison) -> f64 {
     let squared = |p: &PartComparison| p.score.gap * p.score.gap;
+    squared(reference) - squared(model)
+}
+
+fn part_share(reference: &PartComparison, model: &PartComparison) -> Option<f64> {
     (reference.significant && reference.excess() > 0.0)
-        .then(|| (squared(reference) - squared(model)) / reference.excess())
+        .then(|| gap_squared_removed(reference, model) / reference.excess())
 }
 
 fn part_ok(reference: &PartComparison, model: &PartComparison, share: Option<f64>, min_share: f64) -> bool {
@@ -275,11 +280,10 @@ pub fn judge(reference: &Evaluation, model: &Evaluation, min_share: f64) -> Judg
 /// no part without a significant gap may get one.
 pub fn judge_later(reference: &Evaluation, model: &Evaluation, min_share: f64) -> bool {
     let parts = [(&reference.train, &model.train), (&reference.hold, &model.hold)];
-    let squared = |p: &PartComparison| p.score.gap * p.score.gap;
     let (mut removed, mut excess) = (0.0, 0.0);
     for (r, m) in parts {
         if r.significant && r.excess() > 0.0 {
-            let part = squared(r) - squared(m);
+            let part = gap_squared_removed(r, m);
             if part < -min_share * r.excess() {
                 return false;
             }
