@@ -231,15 +231,13 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         };
         effects.push(result);
     }
-    effects.sort_by(|a, b| {
-        let score = |e: &EffectResult| e.evaluation.as_ref().map_or(f64::INFINITY, Evaluation::mean_log_score);
-        score(a).total_cmp(&score(b))
-    });
+    let score = |e: &EffectResult| e.evaluation.as_ref().map_or(f64::INFINITY, Evaluation::mean_log_score);
+    effects.sort_by(|a, b| score(a).total_cmp(&score(b)));
     let unbounded = |e: &EffectResult| match e.params {
         Some(EffectParams::Warmup { time_constant_s, .. }) => warmup_unbounded(time_constant_s, n_train, rate_hz),
         _ => false,
     };
-    ramp_before_unbounded_warmup(&mut effects, |e| e.kind, unbounded);
+    ramp_before_unbounded_warmup(&mut effects, |e| e.kind, unbounded, score);
     // The detector and nested routes count only for the best-ranked candidate (greedy.rs).
     outrank_all_but_best_candidate(
         &mut effects,
