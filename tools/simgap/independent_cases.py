@@ -328,7 +328,7 @@ def make_case(seed, klass, rates, durations, floors):
         if p is not None:
             post.append(p)
         expected = {"bias_jumps_mid": "bias_jumps", "long_warmup": "warmup"}.get(klass, klass)
-        oracle = oracle_z(expected if klass == "long_warmup" else klass, add, info, floor_model, fs)
+        oracle = oracle_z(expected, add, info, floor_model, fs)
         fitted = fitted_oracle_z(expected, add, info, floor_model, fs)
     for p in post:
         x = p(x)
