@@ -76,6 +76,22 @@ fn names_an_injected_sinusoid_with_the_documented_json() {
     assert!((fitted / injected - 1.0).abs() < 0.01, "{fitted} vs {injected}");
 }
 
+/// A temperature column named as another logger names it (`temperature`) still makes the
+/// temperature response a candidate: fitted, scored and named on an injected one.
+#[test]
+fn a_temperature_column_under_another_name_is_a_candidate() {
+    let (csv, magnitudes) = recording(Injected::Effect(EffectKind::Temperature), 3000.0, 1);
+    let text = std::fs::read_to_string(csv.path()).unwrap().replacen("t_s,gx_dps,temp_c", "t_s,gx_dps,temperature", 1);
+    let mut renamed = tempfile::Builder::new().suffix(".csv").tempfile().unwrap();
+    renamed.write_all(text.as_bytes()).unwrap();
+    let path = renamed.path().to_str().unwrap();
+    let doc = json(&gyrocomp(&["simgap", "--real", path, "--ensemble", "16", "--json"]));
+    let effects = doc["effects"].as_array().unwrap();
+    let temperature = effects.iter().find(|e| e["name"] == "temperature").expect("a temperature entry");
+    assert!(temperature["note"].is_null() && temperature["log_score"].is_f64(), "{magnitudes}: {temperature}");
+    assert_eq!(doc["chosen"][0], "temperature", "{magnitudes}: {doc}");
+}
+
 #[test]
 fn same_seed_same_answer_whatever_the_threads() {
     let (csv, _) = recording(Injected::Effect(EffectKind::Spikes), 1500.0, 4);

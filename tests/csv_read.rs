@@ -28,6 +28,25 @@ fn reads_selected_columns_and_temperature() {
     assert!((t.sample_rate_hz().unwrap() - 10.0).abs() < 1e-9);
 }
 
+/// A temperature column another logger wrote (`temperature`, `temp`, …) is read as the temperature;
+/// with several, `temp_c` and then the order of `TEMP_COLUMN_NAMES` decides.
+#[test]
+fn reads_the_temperature_under_the_names_other_writers_use() {
+    for name in ["temperature_c", "temperature", "temp"] {
+        let f = file_with(format!("t_s,gx_dps,{name}\n0,1,20.5\n1,2,21\n").as_bytes());
+        let reader = SampleReader::open(f.path(), &["gx_dps"], ReadOptions::default()).unwrap();
+        assert_eq!(reader.temperature_column(), Some(name));
+        let t = read_table(f.path(), &["gx_dps"], ReadOptions::default()).unwrap();
+        assert_eq!(t.temp_c, Some(vec![20.5, 21.0]), "{name}");
+    }
+    let t = read("t_s,temp,gx_dps,temp_c,temperature\n0,1,2,30,40\n1,1,2,31,41\n", "gx_dps").unwrap();
+    assert_eq!(t.temp_c, Some(vec![30.0, 31.0]), "temp_c first");
+    let t = read("t_s,temp,gx_dps,temperature\n0,1,2,40\n1,1,2,41\n", "gx_dps").unwrap();
+    assert_eq!(t.temp_c, Some(vec![40.0, 41.0]), "temperature before temp");
+    let t = read("t_s,gx_dps,tempo\n0,1,2\n", "gx_dps").unwrap();
+    assert_eq!(t.temp_c, None, "only the listed names");
+}
+
 #[test]
 fn accepts_alternative_time_names_crlf_bom_quotes_and_spaces() {
     let t = read("\u{feff}time,\"gx_dps\"\r\n0, 1.0\r\n\r\n1,\"2.0\"\r\n", "gx_dps").unwrap();

@@ -8,7 +8,8 @@ use crate::diag::simgap::Settings;
 #[derive(Debug, clap::Args)]
 pub struct SimgapArgs {
     /// The real recording: CSV with a header, time column `t_s` (or `t`, `time`), rates in deg/s,
-    /// optionally `temp_c` (then `temperature` is a candidate effect).
+    /// optionally a temperature in °C, `temp_c` (or `temperature_c`, `temperature`, `temp`; then
+    /// `temperature` is a candidate effect).
     /// An MCAP bag (sensor_msgs/msg/Imu) or a EuRoC CSV is read as well.
     #[arg(long, required_unless_present = "selftest")]
     pub real: Option<PathBuf>,

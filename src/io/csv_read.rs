@@ -22,8 +22,11 @@ use std::path::{Path, PathBuf};
 
 pub use super::csv_dialect::{Dialect, TIME_COLUMN_NAMES};
 
-/// Name of the optional temperature column.
-pub const TEMP_COLUMN: &str = "temp_c";
+/// Accepted names of the optional temperature column (°C), in order of preference: gyrocomp's own,
+/// then what other writers call it (docs/design.md "CSV conventions"). A recording whose
+/// temperature is named otherwise would lose the temperature response as a candidate effect
+/// without a word, so the names a user's logger is likely to write are taken as they are.
+pub const TEMP_COLUMN_NAMES: [&str; 4] = ["temp_c", "temperature_c", "temperature", "temp"];
 /// Longest accepted line, bytes: a longer one (a binary file, a file without line ends) is an
 /// error instead of a buffer that grows with the file.
 pub const MAX_LINE_BYTES: usize = 1 << 20;
@@ -251,7 +254,7 @@ impl<R: Read> SampleReader<R> {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let temp_idx = names.iter().position(|n| n == TEMP_COLUMN);
+        let temp_idx = TEMP_COLUMN_NAMES.iter().find_map(|&wanted| names.iter().position(|n| n == wanted));
         Ok(Self {
             path,
             reader,
@@ -306,9 +309,15 @@ impl<R: Read> SampleReader<R> {
         &self.path
     }
 
-    /// Whether the file has a `temp_c` column.
+    /// Whether the file has a temperature column (one of [`TEMP_COLUMN_NAMES`]).
     pub fn has_temperature(&self) -> bool {
         self.temp_idx.is_some()
+    }
+
+    /// Name of the temperature column found in the header (the first of [`TEMP_COLUMN_NAMES`]
+    /// that it has), if any.
+    pub fn temperature_column(&self) -> Option<&str> {
+        self.temp_idx.map(|i| self.names[i].as_str())
     }
 
     /// Number of data rows returned so far.

@@ -54,7 +54,7 @@ pub fn fit_effect(kind: EffectKind, data: &TrainingData<'_>) -> Fitted {
         EffectKind::Warmup => fit_warmup(data.x, data.rate_hz),
         EffectKind::Temperature => match data.temp_c {
             Some(temp) => fit_temperature(data.x, temp, data.rate_hz),
-            None => Fitted::NotApplicable("the recording has no temp_c column".into()),
+            None => Fitted::NotApplicable("the recording has no temperature column (temp_c)".into()),
         },
         EffectKind::Ramp => fit_ramp(data.x, data.rate_hz),
         EffectKind::Sinusoid => fit_sinusoid(data.x, data.rate_hz),
