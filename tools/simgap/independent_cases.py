@@ -385,6 +385,9 @@ def main():
     for f in floors:
         if f not in FLOORS:
             ap.error(f"unknown floor {f!r}; known: {', '.join(FLOORS)}")
+    if "long_warmup" in classes and min(durations) < 900.0:
+        # Its time constant is drawn from 900 s to the recording's length.
+        ap.error(f"class long_warmup needs recordings of 900 s or more; --durations starts at {min(durations):g}")
     last = a.first_seed + len(classes) * a.per_class - 1
     tuning = any(a.first_seed in r and last in r for r in TUNING_RANGES)
     report = any(a.first_seed in r and last in r for r in REPORT_RANGES)
