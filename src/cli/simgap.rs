@@ -31,7 +31,7 @@ pub fn run(args: &SimgapArgs) -> Result<(), CliError> {
         Some(t) if t.iter().all(|v| v.is_finite()) => Some(t),
         Some(_) => {
             tracing::warn!(
-                "{}: temp_c has empty or non-finite rows; the temperature effect is skipped",
+                "{}: the temperature column has empty or non-finite rows; the temperature effect is skipped",
                 path.display()
             );
             None
