@@ -20,6 +20,12 @@ const EUROC_GYRO: [&str; 3] = ["w_RS_S_x", "w_RS_S_y", "w_RS_S_z"];
 /// gyrocomp's names of the gyro axes x, y, z.
 const GYRO: [&str; 3] = ["gx_dps", "gy_dps", "gz_dps"];
 
+/// Index in the header `names` of the first of `candidates` (in their order of preference) that
+/// it has: how a column with several accepted names is found (the time column, the temperature).
+pub fn first_named(names: &[String], candidates: &[&str]) -> Option<usize> {
+    candidates.iter().find_map(|&wanted| names.iter().position(|n| n == wanted))
+}
+
 /// The layout of a header.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Dialect {
@@ -50,9 +56,8 @@ impl Dialect {
     /// The time column: its index, its name and the factor to seconds; `None` when absent.
     pub fn time(self, names: &[String]) -> Option<(Resolved, String)> {
         match self {
-            Self::Gyrocomp => TIME_COLUMN_NAMES.iter().find_map(|&wanted| {
-                names.iter().position(|n| n == wanted).map(|index| (Resolved { index, scale: 1.0 }, wanted.to_owned()))
-            }),
+            Self::Gyrocomp => first_named(names, &TIME_COLUMN_NAMES)
+                .map(|index| (Resolved { index, scale: 1.0 }, names[index].clone())),
             Self::Euroc => Some((Resolved { index: 0, scale: 1e-9 }, names[0].clone())),
         }
     }

@@ -20,6 +20,7 @@ use std::io::{BufRead, BufReader, Read};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use super::csv_dialect::first_named;
 pub use super::csv_dialect::{Dialect, TIME_COLUMN_NAMES};
 
 /// Accepted names of the optional temperature column (°C), in order of preference: gyrocomp's own,
@@ -254,7 +255,7 @@ impl<R: Read> SampleReader<R> {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let temp_idx = TEMP_COLUMN_NAMES.iter().find_map(|&wanted| names.iter().position(|n| n == wanted));
+        let temp_idx = first_named(&names, &TEMP_COLUMN_NAMES);
         Ok(Self {
             path,
             reader,
