@@ -74,6 +74,23 @@ fn names_an_injected_sinusoid_with_the_documented_json() {
     let injected: f64 = magnitudes.rsplit(" at ").next().unwrap().trim_end_matches(" Hz").parse().unwrap();
     let fitted = effects[0]["params"]["frequency_hz"].as_f64().unwrap();
     assert!((fitted / injected - 1.0).abs() < 0.01, "{fitted} vs {injected}");
+    // The gap tests' thresholds: the p quantile of a Gumbel law with the mean and standard
+    // deviation of the members' T — for the baseline p = 1 − 0.01/2 on each part (one false alarm
+    // in 100 over the two), for the final model p = 0.99.
+    let gumbel = |part: &Value, p: f64| {
+        let (mean, sd) = (part["t_members"]["mean"].as_f64().unwrap(), part["t_members"]["sd"].as_f64().unwrap());
+        let beta = sd * 6f64.sqrt() / std::f64::consts::PI;
+        mean - 0.577_215_664_901_532_9 * beta - beta * (-p.ln()).ln()
+    };
+    for part in ["train", "holdout"] {
+        for (model, p) in [("before", 0.995), ("after", 0.99)] {
+            let comparison = &doc[model][part];
+            let threshold = comparison["t_threshold"].as_f64().unwrap();
+            assert!((threshold - gumbel(comparison, p)).abs() < 1e-9, "{model} {part}: {comparison}");
+            let t = comparison["t"].as_f64().unwrap();
+            assert_eq!(comparison["significant"].as_bool().unwrap(), t > threshold, "{model} {part}");
+        }
+    }
 }
 
 /// A temperature column named as another logger names it (`temperature`) still makes the

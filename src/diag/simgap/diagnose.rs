@@ -28,8 +28,8 @@ use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
 use super::greedy::{
-    FitChoice, OWN_NULL_LEVEL, combine, detector_test, judge, outrank_all_but_best_candidate, own_evidence,
-    ramp_before_unbounded_warmup, removes_most,
+    BASELINE_LEVEL, FitChoice, OWN_NULL_LEVEL, combine, detector_test, judge, outrank_all_but_best_candidate,
+    own_evidence, ramp_before_unbounded_warmup, removes_most,
 };
 use super::model::SimModel;
 use super::naming::naming_order;
@@ -109,7 +109,8 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     if let Some(terms) = &baseline_terms {
         setup.perturbations = bootstrap(terms, rate_hz, n_train, builder.total_s, settings.ensemble, settings.seed)?;
     }
-    let before = evaluate(&setup, &baseline_model)?;
+    // Whether there is a gap at all: each part at 1 − 0.01/2, one false alarm in 100 over both.
+    let before = evaluate(&setup, &baseline_model)?.at_level(BASELINE_LEVEL);
     // With a given simulator nothing is refitted: every effect's own null is the baseline itself,
     // and its detector is tested against that.
     let given_own_null = given.then(|| before.at_level(OWN_NULL_LEVEL));

@@ -19,7 +19,9 @@
 //! far-out statistic in a group, such as the grid coherence or a spectral line, shows there too).
 //! T is a maximum, so its null law is taken as a Gumbel law (Fisher–Tippett) with the mean and
 //! standard deviation of the members' own T; the gap is significant when T exceeds that law's
-//! [`NULL_LEVEL`] quantile. A single test, so the groups do not add up to many chances. (A
+//! [`NULL_LEVEL`] quantile (the baseline's comparison, which says whether there is a gap at all,
+//! tests each part at [`super::greedy::BASELINE_LEVEL`], so that its two parts together keep one
+//! false alarm in 100). A single test, so the groups do not add up to many chances. (A
 //! Gaussian threshold at mean + 3 sd, on untransformed scores and with the largest |z| as a third
 //! kind of component, was tried first: on simulated recordings without any effect it flagged a
 //! few per cent of them, because those scores have long upper tails.)
