@@ -29,7 +29,7 @@ use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
 use super::greedy::{
     BASELINE_LEVEL, FitChoice, OWN_NULL_LEVEL, combine, detector_test, judge, outrank_all_but_best_candidate,
-    own_evidence, ramp_before_unbounded_warmup, removes_most,
+    own_evidence, ramp_before_unbounded_warmup, removes_most, stands_above_white_noise,
 };
 use super::model::SimModel;
 use super::naming::naming_order;
@@ -195,13 +195,19 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                 }
                 // Against the baseline only: with a given simulator the step process' test is the
                 // recording's own question (above), not a comparison with the baseline.
-                let supported = own_evidence(baseline_terms.as_ref().and(nested.as_ref()), detector.as_ref());
-                if !supported {
+                let evidence = own_evidence(baseline_terms.as_ref().and(nested.as_ref()), detector.as_ref());
+                if !evidence {
                     tracing::info!(
                         "{}: no evidence of its own (nested test and detector), not a candidate",
                         kind.name()
                     );
                 }
+                let white = baseline_terms.as_ref().or(recording_terms.as_ref()).map(|t| t.n);
+                let visible = white.is_none_or(|n| stands_above_white_noise(&effect.params, n));
+                if !visible {
+                    tracing::info!("{}: below the white noise at its own time scale, not a candidate", kind.name());
+                }
+                let supported = evidence && visible;
                 let params = Some(effect.params.clone());
                 fitted.push((kind, found, best));
                 EffectResult {

@@ -54,6 +54,9 @@
 //! Gauss–Markov process that only the hold-out's gap showed is lost.) Nor does such an effect
 //! outrank another: "ranks first" above means first among the candidates (thirty-fourth
 //! session), since an effect that can never be kept cannot be what another's filter passed by.
+//! Nor is a Gauss–Markov process a candidate when it lies below the white noise at its own time
+//! scale ([`stands_above_white_noise`]: σ√τ < N): it then only colours the white floor, as the
+//! IEEE terms' misfit of a floor made of such processes, or a chirp, does (forty-second session).
 //!
 //! **Ranking**: by the mean of the training and hold-out Dawid–Sebastiani scores
 //! ([`super::gap::GapScore::log_score`], best first). The gap alone rewards an effect that only
@@ -100,7 +103,7 @@ use super::SimgapError;
 use super::ensemble::Evaluation;
 use super::gap::PartComparison;
 use super::nested::NestedTest;
-use super::params::EffectKind;
+use super::params::{EffectKind, EffectParams};
 use super::stats::StatInfo;
 use crate::model::normal::normal_quantile;
 use serde::Serialize;
@@ -232,6 +235,25 @@ pub fn detector_test(
 /// the mean of its null members.
 pub fn own_evidence(nested: Option<&NestedTest>, detector: Option<&DetectorTest>) -> bool {
     detector.is_some_and(|d| d.passed) || nested.is_none_or(|n| n.statistic > n.null_mean)
+}
+
+/// Whether a fitted effect stands above the white noise of angle random walk `n` (deg/√s): for a
+/// Gauss–Markov process of stationary σ and correlation time τ, σ ≥ n/√τ — the process is at
+/// least as large as the white noise's mean over one correlation time, so its Allan deviation
+/// bump (≈ 0.62σ near 1.9τ) reaches the white noise's there (≈ 0.73 n/√τ); every other effect
+/// does. A weaker process only colours the white floor near its own time scale, which the
+/// IEEE terms' misfit of a floor made of Gauss–Markov processes, a sensor's filter or a chirp
+/// sweeping the band does too (forty-second session: on the independent generator's tuning
+/// sets every Gauss–Markov process named below that line was wrong — four controls at
+/// σ√τ/n 0.23–0.38 and four chirps at 0.46–0.68 — and every right one lay above it, 1.15–7.0),
+/// so it is no candidate ([`own_evidence`]'s companion).
+pub fn stands_above_white_noise(params: &EffectParams, n: f64) -> bool {
+    match *params {
+        EffectParams::GaussMarkov { sigma_dps, correlation_time_s } => {
+            sigma_dps * correlation_time_s.max(0.0).sqrt() >= n
+        }
+        _ => true,
+    }
 }
 
 /// Share of the excess gap² that the kept effects must remove on every significant part of the
@@ -555,6 +577,22 @@ mod tests {
         // the same way.
         assert!(own_evidence(Some(&nested(-40.0, -50.0)), None));
         assert!(!own_evidence(Some(&nested(-60.0, -50.0)), None));
+    }
+
+    /// A Gauss–Markov process is a candidate only where σ√τ reaches the white noise's N (the
+    /// generator's nominal N, 0.03 deg/√s: σ 0.006 deg/s needs τ of 25 s); no other effect is
+    /// held to it.
+    #[test]
+    fn a_gauss_markov_process_below_the_white_noise_is_no_candidate() {
+        let gm = |sigma_dps: f64, correlation_time_s: f64| EffectParams::GaussMarkov { sigma_dps, correlation_time_s };
+        assert!(stands_above_white_noise(&gm(0.006, 26.0), 0.03));
+        assert!(!stands_above_white_noise(&gm(0.006, 24.0), 0.03));
+        assert!(stands_above_white_noise(&gm(0.02, 3.0), 0.03));
+        assert!(!stands_above_white_noise(&gm(0.02, 2.0), 0.03));
+        assert!(!stands_above_white_noise(&gm(0.02, 0.0), 0.03));
+        let small_line = EffectParams::Sinusoid { amplitude_dps: 1e-4, frequency_hz: 0.01, phase_deg: 0.0 };
+        assert!(stands_above_white_noise(&small_line, 0.03));
+        assert!(stands_above_white_noise(&EffectParams::Ramp { dps_per_s: 1e-9 }, 0.03));
     }
 
     /// The first candidate fit of `kind`.
