@@ -244,7 +244,7 @@ pub fn own_evidence(nested: Option<&NestedTest>, detector: Option<&DetectorTest>
 /// does. A weaker process only colours the white floor near its own time scale, which the
 /// IEEE terms' misfit of a floor made of Gauss–Markov processes, a sensor's filter or a chirp
 /// sweeping the band does too (forty-second session: on the independent generator's tuning
-/// sets every Gauss–Markov process named below that line was wrong — four controls at
+/// sets every Gauss–Markov process named below that line was wrong — five controls at
 /// σ√τ/n 0.23–0.38 and four chirps at 0.46–0.68 — and every right one lay above it, 1.15–7.0),
 /// so it is no candidate ([`own_evidence`]'s companion).
 pub fn stands_above_white_noise(params: &EffectParams, n: f64) -> bool {
