@@ -105,6 +105,10 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     } else {
         None
     };
+    // The recording's own noise terms: the fitted baseline's, or beside a given simulator its own
+    // fit (the step process' test and the white-noise line of a Gauss–Markov process ask about
+    // the recording, whatever the baseline).
+    let own_terms = baseline_terms.as_ref().or(recording_terms.as_ref());
     let mut setup = setup;
     if let Some(terms) = &baseline_terms {
         setup.perturbations = bootstrap(terms, rate_hz, n_train, builder.total_s, settings.ensemble, settings.seed)?;
@@ -128,9 +132,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     // a single step than the window detector's fit did. Its question (steps or a random walk?)
     // is the recording's, whatever the baseline: with a given simulator it runs on the
     // recording's own terms.
-    let jumps = baseline_terms
-        .as_ref()
-        .or(recording_terms.as_ref())
+    let jumps = own_terms
         .map(|terms| jumps_test(recording.rate, rate_hz, terms, builder.total_s, settings.seed))
         .transpose()?;
     let step_changes = match &jumps {
@@ -202,8 +204,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
                         kind.name()
                     );
                 }
-                let white = baseline_terms.as_ref().or(recording_terms.as_ref()).map(|t| t.n);
-                let visible = white.is_none_or(|n| stands_above_white_noise(&effect.params, n));
+                let visible = own_terms.is_none_or(|t| stands_above_white_noise(&effect.params, t.n));
                 if !visible {
                     tracing::info!("{}: below the white noise at its own time scale, not a candidate", kind.name());
                 }
