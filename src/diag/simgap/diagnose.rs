@@ -23,13 +23,14 @@
 use super::SimgapError;
 use super::baseline::{NoiseTerms, fit_noise_terms};
 use super::builder::ModelBuilder;
-use super::effects::{TrainingData, fit_candidates};
+use super::effects::{TrainingData, fit_candidates, fit_effect};
 use super::ensemble::{Evaluation, Setup, evaluate};
 use super::fit_events::{detect_grid, fit_jumps_at};
 use super::fit_time::warmup_unbounded;
 use super::greedy::{
-    BASELINE_LEVEL, FitChoice, OWN_NULL_LEVEL, combine, detector_test, judge, outrank_all_but_best_candidate,
-    own_evidence, ramp_before_unbounded_warmup, removes_most, stands_above_white_noise,
+    BASELINE_LEVEL, FitChoice, OWN_NULL_LEVEL, STEP_BENT, combine, detector_test, judge,
+    outrank_all_but_best_candidate, own_evidence, ramp_before_unbounded_warmup, removes_most,
+    reshape_first_beside_steps, stands_above_white_noise,
 };
 use super::model::SimModel;
 use super::naming::naming_order;
@@ -139,7 +140,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         Some((test, Some(evidence))) if test.passed => Some(&evidence.changes),
         _ => None,
     };
-    let candidates: Vec<(EffectKind, Vec<Fitted>)> = EffectKind::ALL
+    let mut candidates: Vec<(EffectKind, Vec<Fitted>)> = EffectKind::ALL
         .iter()
         .map(|&k| match (k, fit_candidates(k, &data), step_changes) {
             (EffectKind::BiasJumps, mut fits, Some(changes)) if window_steps(&fits[0]) < changes.len() => {
@@ -149,6 +150,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
             (k, fits, _) => (k, fits),
         })
         .collect();
+    add_step_corrected_fits(&mut candidates, &data);
     let mut effects = Vec::new();
     // Every candidate fit per effect and which scored best alone, for the combinations below.
     let mut fitted: Vec<(EffectKind, Vec<FittedEffect>, usize)> = Vec::new();
@@ -276,14 +278,29 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         .collect();
     let found = |c: FitChoice| fits_of(c.kind).and_then(|(_, found, _)| found.get(c.fit));
     let own_null: Vec<EffectKind> = effects.iter().filter(|e| e.accepted_by_own_null()).map(|e| e.kind).collect();
-    let combination =
-        combine(&before, &ranked, &other_fits, &own_null, settings.min_share, settings.max_effects, |set| {
-            let parts: Vec<&FittedEffect> = set.iter().filter_map(|&c| found(c)).collect();
-            let (model, _) = builder.build(&parts)?;
-            let evaluation = evaluate(&setup, &model);
-            built.push((set.to_vec(), model));
-            evaluation
-        })?;
+    let mut evaluate_set = |set: &[FitChoice]| {
+        let parts: Vec<&FittedEffect> = set.iter().filter_map(|&c| found(c)).collect();
+        let (model, _) = builder.build(&parts)?;
+        let evaluation = evaluate(&setup, &model);
+        built.push((set.to_vec(), model));
+        evaluation
+    };
+    let mut combination =
+        combine(&before, &ranked, &other_fits, &own_null, settings.min_share, settings.max_effects, &mut evaluate_set)?;
+    // Beside kept bias steps, the first effect's shape is chosen again with the steps in the
+    // model (greedy.rs): every candidate fit of the slow bias motions, those on the step-corrected
+    // part among them.
+    let slow_fits: Vec<FitChoice> = ranked
+        .iter()
+        .map(|(choice, _)| *choice)
+        .chain(other_fits.iter().copied())
+        .filter(|c| STEP_BENT.contains(&c.kind))
+        .collect();
+    let unbounded_fit = |c: FitChoice| match found(c).map(|e| &e.params) {
+        Some(EffectParams::Warmup { time_constant_s, .. }) => warmup_unbounded(*time_constant_s, n_train, rate_hz),
+        _ => false,
+    };
+    reshape_first_beside_steps(&mut combination, &slow_fits, unbounded_fit, &mut evaluate_set)?;
     ensembles_run += combination.evaluations;
     let kept_fits = combination.chosen;
     let tried: Vec<EffectKind> = kept_fits.iter().map(|c| c.kind).collect();
@@ -384,6 +401,33 @@ fn best_fit<T>(
     Ok(best
         .map(|(best, built, evaluation)| BestFit { found, best, built, evaluation })
         .ok_or_else(|| why.unwrap_or_default()))
+}
+
+/// Beside bias steps found in the training part (the bias-jump candidate with the most steps there),
+/// adds to each slow bias motion of [`STEP_BENT`] a second candidate fit made on the training
+/// part less those steps' fitted levels (one backfitting pass, Hastie & Tibshirani 1990,
+/// *Generalized Additive Models*, §4.4): on the raw part a ramp with a few steps of its own size
+/// beside it bends into a warm-up or a temperature response. Each fit is evaluated alone as the
+/// others are; where bias steps are kept, the combination chooses the first effect's shape again
+/// among all of them ([`reshape_first_beside_steps`]).
+fn add_step_corrected_fits(candidates: &mut [(EffectKind, Vec<Fitted>)], data: &TrainingData<'_>) {
+    let steps = candidates
+        .iter()
+        .filter(|(kind, _)| *kind == EffectKind::BiasJumps)
+        .flat_map(|(_, fits)| fits.iter())
+        .filter_map(|fit| match fit {
+            Fitted::Found(FittedEffect { training_part: Some(part), .. }) => Some(part),
+            _ => None,
+        })
+        .max_by_key(|part| part.windows(2).filter(|w| w[0] != w[1]).count());
+    let Some(steps) = steps else { return };
+    let corrected: Vec<f64> = data.x.iter().zip(steps).map(|(x, s)| x - s).collect();
+    let corrected_data = TrainingData { x: &corrected, ..*data };
+    for (kind, fits) in candidates.iter_mut().filter(|(kind, _)| STEP_BENT.contains(kind)) {
+        if let fit @ Fitted::Found(_) = fit_effect(*kind, &corrected_data) {
+            fits.push(fit);
+        }
+    }
 }
 
 /// How many steps the window detector's bias-jump fit `fit` holds (none where it found nothing).
