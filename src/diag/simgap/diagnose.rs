@@ -243,10 +243,12 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
     }
     let score = |e: &EffectResult| e.evaluation.as_ref().map_or(f64::INFINITY, Evaluation::mean_log_score);
     effects.sort_by(|a, b| score(a).total_cmp(&score(b)));
-    let unbounded = |e: &EffectResult| match e.params {
-        Some(EffectParams::Warmup { time_constant_s, .. }) => warmup_unbounded(time_constant_s, n_train, rate_hz),
+    // A warm-up whose fitted time constant the training part does not bound (greedy.rs).
+    let unbounded_warmup = |params: &EffectParams| match *params {
+        EffectParams::Warmup { time_constant_s, .. } => warmup_unbounded(time_constant_s, n_train, rate_hz),
         _ => false,
     };
+    let unbounded = |e: &EffectResult| e.params.as_ref().is_some_and(unbounded_warmup);
     ramp_before_unbounded_warmup(&mut effects, |e| e.kind, unbounded, score);
     // The detector and nested routes count only for the best-ranked candidate (greedy.rs).
     outrank_all_but_best_candidate(
@@ -296,10 +298,7 @@ pub fn diagnose(recording: &Recording<'_>, baseline: &Baseline, settings: &Setti
         .chain(other_fits.iter().copied())
         .filter(|c| STEP_BENT.contains(&c.kind))
         .collect();
-    let unbounded_fit = |c: FitChoice| match found(c).map(|e| &e.params) {
-        Some(EffectParams::Warmup { time_constant_s, .. }) => warmup_unbounded(*time_constant_s, n_train, rate_hz),
-        _ => false,
-    };
+    let unbounded_fit = |c: FitChoice| found(c).is_some_and(|e| unbounded_warmup(&e.params));
     reshape_first_beside_steps(&mut combination, &slow_fits, unbounded_fit, &mut evaluate_set)?;
     ensembles_run += combination.evaluations;
     let kept_fits = combination.chosen;
